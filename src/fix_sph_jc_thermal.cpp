@@ -1,0 +1,532 @@
+/* ----------------------------------------------------------------------
+   sphcut - fix sph/jc-thermal
+
+   Time integration of the updated-Lagrangian SPH solid (seed 003 eqs. 1-3,
+   10-11; seed 000 eqs. 1-4):
+     positions/velocities: velocity Verlet (kick-drift-kick), the drift
+       with the XSPH-corrected velocity (Monaghan 1989);
+     density, deviatoric stress, temperature, internal energy: Heun
+       predictor-corrector, y* = y^n + dt f^n (predictor, used to compute
+       the forces of the step), y^{n+1} = y^n + dt/2 (f^n + f^{n+1});
+     Johnson-Cook plasticity: radial return after predictor and corrector;
+       plastic work heats the particle (chi, seed 003 eq. 5).
+   Both schemes are second order in dt.
+------------------------------------------------------------------------- */
+
+#include "fix_sph_jc_thermal.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "group.h"
+#include "memory.h"
+#include "modify.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_material.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using sphcut::Material;
+
+static constexpr int NFORWARD = 1 + 6 + 1 + 3;    // RHO_F, SF, TEMP_F, VEST
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), state(nullptr), pair(nullptr)
+{
+  if (narg < 3) error->all(FLERR, "Illegal fix sph/jc-thermal command: missing arguments");
+
+  toolbit = clampbit = 0;
+  temp0 = -1.0;
+  cfl = 0.0;
+  dtmax = 0.0;
+  dtmin = 0.0;
+  thermal_cfl = 0.1;
+  heat_active = 0;
+  plastic_work = 0.0;
+  force_state_valid = 0;
+
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string kw = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Fix sph/jc-thermal: keyword {} needs a value", kw);
+    const char *val = arg[iarg + 1];
+    if (kw == "tool" || kw == "clamp") {
+      const int ig = group->find(val);
+      if (ig < 0) error->all(FLERR, "Fix sph/jc-thermal: {} group {} does not exist", kw, val);
+      if (kw == "tool") toolbit = group->bitmask[ig];
+      else clampbit = group->bitmask[ig];
+    } else if (kw == "temp") {
+      temp0 = utils::numeric(FLERR, val, false, lmp);
+      if (temp0 < 0.0) error->all(FLERR, "Fix sph/jc-thermal: temp must be >= 0, got {}", temp0);
+    } else if (kw == "cfl") {
+      cfl = utils::numeric(FLERR, val, false, lmp);
+      if (cfl <= 0.0 || cfl > 1.0) error->all(FLERR, "Fix sph/jc-thermal: cfl must be in (0,1], got {}", cfl);
+    } else if (kw == "dtmax") {
+      dtmax = utils::numeric(FLERR, val, false, lmp);
+      if (dtmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: dtmax must be > 0, got {}", dtmax);
+    } else if (kw == "dtmin") {
+      dtmin = utils::numeric(FLERR, val, false, lmp);
+      if (dtmin <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: dtmin must be > 0, got {}", dtmin);
+    } else if (kw == "thermal_cfl") {
+      thermal_cfl = utils::numeric(FLERR, val, false, lmp);
+      if (thermal_cfl <= 0.0 || thermal_cfl > 0.5)
+        error->all(FLERR, "Fix sph/jc-thermal: thermal_cfl must be in (0,0.5], got {}", thermal_cfl);
+    } else {
+      error->all(FLERR, "Fix sph/jc-thermal: unknown keyword {}", kw);
+    }
+    iarg += 2;
+  }
+  if (toolbit && (toolbit == clampbit))
+    error->all(FLERR, "Fix sph/jc-thermal: tool and clamp must be different groups");
+  if (dtmin > 0.0 && dtmax > 0.0 && dtmin > dtmax)
+    error->all(FLERR, "Fix sph/jc-thermal: dtmin {} is larger than dtmax {}", dtmin, dtmax);
+
+  time_integrate = 1;
+  create_attribute = 1;
+  vector_flag = 1;
+  size_vector = 6;
+  global_freq = 1;
+  extvector = 0;
+  peratom_flag = 1;
+  size_peratom_cols = NOUT;
+  peratom_freq = 1;
+  restart_global = 1;
+  restart_peratom = 1;
+  comm_forward = NFORWARD;
+  if (cfl > 0.0) nevery = 1;
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+  for (int i = 0; i < atom->nlocal; i++) initialize_atom(i);
+
+  dtv = update->dt;
+  dtf = 0.5 * update->dt * force->ftm2v;
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixSPHJCThermal::~FixSPHJCThermal()
+{
+  atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
+  memory->destroy(state);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHJCThermal::setmask()
+{
+  int mask = 0;
+  mask |= INITIAL_INTEGRATE;
+  mask |= PRE_FORCE;
+  mask |= FINAL_INTEGRATE;
+  if (cfl > 0.0) mask |= END_OF_STEP;
+  return mask;
+}
+
+/* ----------------------------------------------------------------------
+   new atom: zero state; density and temperature are taken from the
+   material (sentinel -1) at the next setup
+------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::initialize_atom(int i)
+{
+  for (int k = 0; k < NCOL; k++) state[i][k] = 0.0;
+  state[i][RHO] = -1.0;
+  state[i][TEMP] = temp0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHJCThermal::init()
+{
+  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
+  if (!pair) error->all(FLERR, "Fix sph/jc-thermal requires pair_style sph/jc-thermal");
+  if (!atom->rmass_flag && !atom->mass_setflag)
+    error->all(FLERR, "Fix sph/jc-thermal: per-type masses are not set (use the mass command)");
+  int count = 0;
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i]->time_integrate && modify->fix[i] != this) {
+      if (group->bitmask[modify->fix[i]->igroup] & groupbit) count++;
+    }
+  if (count && comm->me == 0)
+    error->warning(FLERR, "Fix sph/jc-thermal: another time integration fix acts on its group");
+  heat_active = 0;
+  for (int i = 0; i < modify->nfix; i++)
+    if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) heat_active = 1;
+  reset_dt();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHJCThermal::reset_dt()
+{
+  dtv = update->dt;
+  dtf = 0.5 * update->dt * force->ftm2v;
+}
+
+/* ----------------------------------------------------------------------
+   before the setup force computation: complete the state of new atoms,
+   and unless this continues a run (restart, or a second run command with
+   unchanged velocities) compute the forces from the current state
+------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::setup_pre_force(int vflag)
+{
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  double **v = atom->v;
+  const Material *mat = pair->materials();
+  int nfresh = 0;
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double *s = state[i];
+    const Material &mt = mat[type[i]];
+    if (s[RHO] <= 0.0) s[RHO] = mt.rho0;
+    if (s[TEMP] < 0.0) s[TEMP] = mt.Tref;
+    s[ROLE] = role_of(mask[i]);
+    s[PRESS] = sphcut::eos_pressure(mt, s[RHO], s[TEMP]);
+    s[VM] = sphcut::von_mises(&s[SXX]);
+    int fresh = !force_state_valid;
+    for (int d = 0; d < 3; d++)
+      if (v[i][d] != s[VEND + d]) fresh = 1;
+    if (fresh) {
+      nfresh++;
+      s[RHO_F] = s[RHO];
+      for (int k = 0; k < 6; k++) s[SF + k] = s[SXX + k];
+      s[TEMP_F] = s[TEMP];
+      for (int d = 0; d < 3; d++) s[VEST + d] = s[ROLE] == CLAMPED ? 0.0 : v[i][d];
+    }
+  }
+  force_state_valid = 1;
+  pre_force(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   after neighboring, before the forces: clear this step's rates and send
+   the force state to the ghosts
+------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::pre_force(int)
+{
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    double *s = state[i];
+    s[DRHO] = 0.0;
+    for (int k = 0; k < 6; k++) s[DS + k] = 0.0;
+    s[DTEMP] = 0.0;
+    s[DU] = 0.0;
+  }
+  sphcut::forward_comm(comm, this);
+}
+
+/* ----------------------------------------------------------------------
+   predictor of the material state (used by the forces of this step)
+------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::predict(int i, const double *, const double *, const int *type)
+{
+  double *s = state[i];
+  const double dt = dtv;
+  s[RHO_F] = s[RHO] + dt * s[DRHO_O];
+  for (int k = 0; k < 6; k++) s[SF + k] = s[SXX + k] + dt * s[DS_O + k];
+  s[TEMP_F] = s[TEMP] + dt * s[DTEMP_O];
+  const Material &mt = pair->materials()[type[i]];
+  sphcut::radial_return(mt, &s[SF], s[EPS], s[TEMP_F], dt, nullptr);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHJCThermal::initial_integrate(int)
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const Material *mat = pair->materials();
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double *s = state[i];
+    s[DRHO_O] = s[DRHO];
+    for (int k = 0; k < 6; k++) s[DS_O + k] = s[DS + k];
+    s[DTEMP_O] = s[DTEMP];
+    s[DU_O] = s[DU];
+
+    const int role = role_of(mask[i]);
+    if (role == TOOL) {
+      // rigid tool particle: prescribed velocity, no mechanics
+      for (int d = 0; d < 3; d++) {
+        x[i][d] += dtv * v[i][d];
+        s[VEST + d] = v[i][d];
+      }
+      s[TEMP_F] = s[TEMP] + dtv * s[DTEMP_O];
+      continue;
+    }
+    if (role == CLAMPED) {
+      for (int d = 0; d < 3; d++) v[i][d] = s[VEST + d] = 0.0;
+    } else {
+      const double dtfm = dtf / (rmass ? rmass[i] : mass[type[i]]);
+      const double eps = mat[type[i]].xsph;
+      for (int d = 0; d < 3; d++) {
+        s[VEST + d] = v[i][d] + 2.0 * dtfm * f[i][d];
+        v[i][d] += dtfm * f[i][d];
+        x[i][d] += dtv * (v[i][d] + eps * s[XSPH + d]);
+      }
+    }
+    predict(i, mass, rmass, type);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixSPHJCThermal::final_integrate()
+{
+  double **v = atom->v;
+  double **f = atom->f;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const Material *mat = pair->materials();
+  const double dt = dtv;
+  const double hdt = 0.5 * dtv;
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double *s = state[i];
+    const int role = role_of(mask[i]);
+    s[TEMP] += hdt * (s[DTEMP_O] + s[DTEMP]);
+    if (role != TOOL) {
+      const double m = rmass ? rmass[i] : mass[type[i]];
+      if (role == WORKPIECE) {
+        const double dtfm = dtf / m;
+        for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
+      }
+      const Material &mt = mat[type[i]];
+      s[RHO] += hdt * (s[DRHO_O] + s[DRHO]);
+      for (int k = 0; k < 6; k++) s[SXX + k] += hdt * (s[DS_O + k] + s[DS + k]);
+      s[UINT] += hdt * (s[DU_O] + s[DU]);
+      double sigy = 0.0;
+      const double deps = sphcut::radial_return(mt, &s[SXX], s[EPS], s[TEMP], dt, &sigy);
+      s[EPS] += deps;
+      s[EPSDOT] = deps / dt;
+      if (deps > 0.0) {
+        const double wp = sigy * deps / s[RHO];    // plastic work per unit mass
+        plastic_work += m * wp;
+        if (mt.cp > 0.0) s[TEMP] += mt.chi * wp / mt.cp;
+      }
+      s[PRESS] = sphcut::eos_pressure(mt, s[RHO], s[TEMP]);
+      s[VM] = sphcut::von_mises(&s[SXX]);
+    }
+    for (int d = 0; d < 3; d++) s[VEND + d] = v[i][d];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   stable time step (adaptive dt with keyword cfl):
+     dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics)
+     dt <= thermal_cfl * rho cp h^2 / k            (with a heat fix)
+------------------------------------------------------------------------- */
+
+double FixSPHJCThermal::stable_dt()
+{
+  double **v = atom->v;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  const Material *mat = pair->materials();
+  double dtloc = 1.0e300;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    const int it = type[i];
+    const double h = pair->smoothing_length(it);
+    const Material &mt = mat[it];
+    if (role_of(mask[i]) != TOOL) {
+      const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+      dtloc = std::min(dtloc, cfl * h / (mt.cl + vv));
+    }
+    if (heat_active && mt.kappa > 0.0 && mt.cp > 0.0)
+      dtloc = std::min(dtloc, thermal_cfl * state[i][RHO] * mt.cp * h * h / mt.kappa);
+  }
+  double dtnew;
+  MPI_Allreduce(&dtloc, &dtnew, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (dtmax > 0.0) dtnew = std::min(dtnew, dtmax);
+  if (dtmin > 0.0) dtnew = std::max(dtnew, dtmin);
+  return dtnew;
+}
+
+void FixSPHJCThermal::apply_dt(double dtnew)
+{
+  if (dtnew == update->dt || dtnew >= 1.0e300) return;
+  update->update_time();
+  update->dt = dtnew;
+  update->dt_default = 0;
+  if (force->pair) force->pair->reset_dt();
+  for (int i = 0; i < modify->nfix; i++) modify->fix[i]->reset_dt();
+}
+
+void FixSPHJCThermal::end_of_step()
+{
+  apply_dt(stable_dt());
+}
+
+// the first step of a run already uses the stable time step
+void FixSPHJCThermal::setup(int)
+{
+  if (cfl > 0.0) apply_dt(stable_dt());
+}
+
+/* ----------------------------------------------------------------------
+   global vector: 1 dt, 2 internal energy sum m u, 3 kinetic energy of the
+   workpiece, 4 plastic work, 5 max temperature, 6 max plastic strain
+------------------------------------------------------------------------- */
+
+double FixSPHJCThermal::compute_vector(int n)
+{
+  if (n == 0) return update->dt;
+  const int nlocal = atom->nlocal;
+  const int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int *type = atom->type;
+  double **v = atom->v;
+  double loc = 0.0, res = 0.0;
+  if (n == 1 || n == 2) {
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit) || role_of(mask[i]) == TOOL) continue;
+      const double m = rmass ? rmass[i] : mass[type[i]];
+      if (n == 1) loc += m * state[i][UINT];
+      else loc += 0.5 * m * (v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    }
+    MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+    return n == 2 ? res * force->mvv2e : res;
+  }
+  if (n == 3) {
+    MPI_Allreduce(&plastic_work, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+    return res;
+  }
+  const int col = n == 4 ? TEMP : EPS;
+  loc = -1.0e300;
+  for (int i = 0; i < nlocal; i++)
+    if (mask[i] & groupbit) loc = std::max(loc, state[i][col]);
+  MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_MAX, world);
+  return res;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixSPHJCThermal::memory_usage()
+{
+  return (double) atom->nmax * NCOL * sizeof(double);
+}
+
+void FixSPHJCThermal::grow_arrays(int nmax)
+{
+  memory->grow(state, nmax, NCOL, "sph/jc-thermal:state");
+  array_atom = state;
+}
+
+void FixSPHJCThermal::copy_arrays(int i, int j, int)
+{
+  memcpy(state[j], state[i], NCOL * sizeof(double));
+}
+
+int FixSPHJCThermal::pack_exchange(int i, double *buf)
+{
+  memcpy(buf, state[i], NCOL * sizeof(double));
+  return NCOL;
+}
+
+int FixSPHJCThermal::unpack_exchange(int nlocal, double *buf)
+{
+  memcpy(state[nlocal], buf, NCOL * sizeof(double));
+  return NCOL;
+}
+
+int FixSPHJCThermal::pack_restart(int i, double *buf)
+{
+  buf[0] = NCOL + 1;
+  memcpy(&buf[1], state[i], NCOL * sizeof(double));
+  return NCOL + 1;
+}
+
+void FixSPHJCThermal::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  memcpy(state[nlocal], &extra[nlocal][m], NCOL * sizeof(double));
+}
+
+int FixSPHJCThermal::size_restart(int)
+{
+  return NCOL + 1;
+}
+
+int FixSPHJCThermal::maxsize_restart()
+{
+  return NCOL + 1;
+}
+
+void FixSPHJCThermal::write_restart(FILE *fp)
+{
+  double total = 0.0;
+  MPI_Allreduce(&plastic_work, &total, 1, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me == 0) {
+    double list[3] = {(double) NCOL, (double) force_state_valid, total};
+    int size = 3 * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 3, fp);
+  }
+}
+
+void FixSPHJCThermal::restart(char *buf)
+{
+  const double *list = (const double *) buf;
+  if (static_cast<int>(list[0]) != NCOL)
+    error->all(FLERR, "Fix sph/jc-thermal: restart file has {} state columns, this version {}",
+               static_cast<int>(list[0]), (int) NCOL);
+  force_state_valid = static_cast<int>(list[1]);
+  plastic_work = comm->me == 0 ? list[2] : 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixSPHJCThermal::pack_forward_comm(int n, int *list, double *buf, int, int *)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++) {
+    const double *s = state[list[ii]];
+    for (int k = 0; k < NFORWARD; k++) buf[m++] = s[RHO_F + k];
+  }
+  return m;
+}
+
+void FixSPHJCThermal::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    double *s = state[i];
+    for (int k = 0; k < NFORWARD; k++) s[RHO_F + k] = buf[m++];
+  }
+}

@@ -1,0 +1,602 @@
+/* ----------------------------------------------------------------------
+   sphcut - pair_style sph/jc-thermal
+
+   Per pair (seed 003 eqs. 10-11, seed 000 eqs. 2 and 4):
+     drho_i/dt = -rho_i sum_j V_j (v_j - v_i) . grad_i W_ij
+     dv_i/dt   =  sum_j m_j (sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I
+                            + f_ij^n (R_i + R_j)) . grad_i W_ij
+     L_i       =  [sum_j V_j (v_j - v_i) (x) grad_i W_ij] B_i^-1,
+     B_i       =  sum_j V_j (x_j - x_i) (x) grad_i W_ij    (renormalisation)
+     du_i/dt   =  1/2 sum_j m_j (v_j - v_i) . M_ij . grad_i W_ij  (M: the bracket above;
+                  makes kinetic + internal energy conserved by the discrete scheme)
+     xsph_i    =  sum_j m_j / rho_ij (v_j - v_i) W_ij
+   then per particle ds_i/dt from the Jaumann rate.  The velocities are the
+   predicted ones of fix sph/jc-thermal (column VEST), the stress and
+   density its predictor (RHO_F, SF), so forces are computed once a step.
+   Rigid tool particles (role TOOL) take no part in the mechanics.
+------------------------------------------------------------------------- */
+
+#include "pair_sph_jc_thermal.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_jc_thermal.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_kernels.h"
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using sphcut::Material;
+
+static constexpr int NREVERSE = 1 + 9 + 9 + 1 + 3;
+static constexpr double UNSET = -1.0e300;
+
+/* ---------------------------------------------------------------------- */
+
+PairSPHJCThermal::PairSPHJCThermal(LAMMPS *lmp) :
+    Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), fix(nullptr),
+    nmax(0), sig(nullptr), rstress(nullptr), drho_acc(nullptr), lgrad(nullptr), bmat(nullptr),
+    du_acc(nullptr), xs_acc(nullptr)
+{
+  restartinfo = 1;
+  single_enable = 0;
+  one_coeff = 0;
+  comm_reverse = NREVERSE;
+  kernel_kind = sphcut::KERNEL_CUBIC;
+  correction = 1;
+}
+
+PairSPHJCThermal::~PairSPHJCThermal()
+{
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+    memory->destroy(hlen);
+    memory->destroy(hdx);
+    memory->destroy(wdp);
+    memory->destroy(dp);
+    delete[] mat;
+  }
+  memory->destroy(sig);
+  memory->destroy(rstress);
+  memory->destroy(drho_acc);
+  memory->destroy(lgrad);
+  memory->destroy(bmat);
+  memory->destroy(du_acc);
+  memory->destroy(xs_acc);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHJCThermal::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  memory->create(hlen, n + 1, n + 1, "pair:h");
+  memory->create(hdx, n + 1, n + 1, "pair:hdx");
+  memory->create(wdp, n + 1, n + 1, "pair:wdp");
+  memory->create(dp, n + 1, "pair:dp");
+  mat = new Material[n + 1];
+  memset(mat, 0, (n + 1) * sizeof(Material));
+  for (int i = 0; i <= n; i++) {
+    dp[i] = 0.0;
+    for (int j = 0; j <= n; j++) {
+      setflag[i][j] = 0;
+      hlen[i][j] = 0.0;
+      hdx[i][j] = 0.0;
+      wdp[i][j] = 0.0;
+    }
+  }
+}
+
+void PairSPHJCThermal::grow_scratch(int n)
+{
+  if (n <= nmax) return;
+  nmax = n;
+  memory->destroy(sig);
+  memory->destroy(rstress);
+  memory->destroy(drho_acc);
+  memory->destroy(lgrad);
+  memory->destroy(bmat);
+  memory->destroy(du_acc);
+  memory->destroy(xs_acc);
+  memory->create(sig, nmax, 6, "pair:sig");
+  memory->create(rstress, nmax, 6, "pair:rstress");
+  memory->create(drho_acc, nmax, "pair:drho");
+  memory->create(lgrad, nmax, 9, "pair:lgrad");
+  memory->create(bmat, nmax, 9, "pair:bmat");
+  memory->create(du_acc, nmax, "pair:du");
+  memory->create(xs_acc, nmax, 3, "pair:xsph");
+}
+
+/* ----------------------------------------------------------------------
+   pair_style sph/jc-thermal [kernel cubic|wendland|hyperbolic] [correction yes|no]
+------------------------------------------------------------------------- */
+
+void PairSPHJCThermal::settings(int narg, char **arg)
+{
+  int iarg = 0;
+  while (iarg < narg) {
+    const std::string kw = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Pair sph/jc-thermal: keyword {} needs a value", kw);
+    const std::string val = arg[iarg + 1];
+    if (kw == "kernel") {
+      if (val == "cubic") kernel_kind = sphcut::KERNEL_CUBIC;
+      else if (val == "wendland") kernel_kind = sphcut::KERNEL_WENDLAND;
+      else if (val == "hyperbolic") kernel_kind = sphcut::KERNEL_HYPERBOLIC;
+      else error->all(FLERR, "Pair sph/jc-thermal: unknown kernel {} (cubic, wendland, hyperbolic)", val);
+    } else if (kw == "correction") {
+      if (val == "yes") correction = 1;
+      else if (val == "no") correction = 0;
+      else error->all(FLERR, "Pair sph/jc-thermal: correction must be yes or no, got {}", val);
+    } else {
+      error->all(FLERR, "Pair sph/jc-thermal: unknown pair_style keyword {}", kw);
+    }
+    iarg += 2;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff I J keyword value ...
+   material keywords set the material of the types t with t in I and J;
+   h / hdx set the smoothing length of every pair (I,J)
+------------------------------------------------------------------------- */
+
+void PairSPHJCThermal::coeff(int narg, char **arg)
+{
+  if (narg < 4) error->all(FLERR, "Pair sph/jc-thermal: pair_coeff needs I J and keyword/value pairs");
+  if (!allocated) allocate();
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  // values not given stay UNSET so that defaults and mandatory checks can be applied
+  Material m;
+  double *fields[] = {&m.rho0, &m.E, &m.nu, &m.A, &m.B, &m.C, &m.n, &m.m, &m.epsdot0,
+                      &m.Tref, &m.Tmelt, &m.cp, &m.chi, &m.kappa, &m.av_alpha, &m.av_beta,
+                      &m.as_eps, &m.as_n, &m.xsph, &m.gamma0, &m.s_hug};
+  const char *names[] = {"rho0", "E", "nu", "A", "B", "C", "n", "m", "epsdot0", "Tref", "Tmelt",
+                         "cp", "chi", "k", "alpha", "beta", "as_eps", "as_n", "xsph", "gamma0", "s"};
+  const int nfields = sizeof(names) / sizeof(names[0]);
+  for (int k = 0; k < nfields; k++) *fields[k] = UNSET;
+  m.eos = sphcut::EOS_LINEAR;
+  double h = 0.0, hx = 0.0;
+  int nmat = 0;
+
+  int iarg = 2;
+  while (iarg < narg) {
+    const std::string kw = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Pair sph/jc-thermal: pair_coeff keyword {} needs a value", kw);
+    const char *val = arg[iarg + 1];
+    if (kw == "h") {
+      h = utils::numeric(FLERR, val, false, lmp);
+      if (h <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: h must be > 0, got {}", h);
+    } else if (kw == "hdx") {
+      hx = utils::numeric(FLERR, val, false, lmp);
+      if (hx <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: hdx must be > 0, got {}", hx);
+    } else if (kw == "eos") {
+      const std::string e = val;
+      if (e == "linear") m.eos = sphcut::EOS_LINEAR;
+      else if (e == "mie-gruneisen") m.eos = sphcut::EOS_MIE_GRUNEISEN;
+      else error->all(FLERR, "Pair sph/jc-thermal: unknown eos {} (linear, mie-gruneisen)", e);
+      nmat++;
+    } else {
+      int k = 0;
+      while (k < nfields && kw != names[k]) k++;
+      if (k == nfields) error->all(FLERR, "Pair sph/jc-thermal: unknown pair_coeff keyword {}", kw);
+      *fields[k] = utils::numeric(FLERR, val, false, lmp);
+      nmat++;
+    }
+    iarg += 2;
+  }
+
+  if (nmat) {
+    // mandatory values
+    const char *mandatory[] = {"rho0", "E", "nu"};
+    for (int k = 0; k < 3; k++)
+      if (*fields[k] == UNSET)
+        error->all(FLERR, "Pair sph/jc-thermal: material value {} is missing in pair_coeff {} {}",
+                   mandatory[k], arg[0], arg[1]);
+    if (m.rho0 <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: rho0 must be > 0, got {}", m.rho0);
+    if (m.E <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: E must be > 0, got {}", m.E);
+    if (m.nu <= -1.0 || m.nu >= 0.5)
+      error->all(FLERR, "Pair sph/jc-thermal: nu must be in (-1,0.5), got {}", m.nu);
+    m.plastic = m.A != UNSET;
+    if (m.plastic) {
+      if (m.B == UNSET) error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook value B is missing (A is given)");
+      if (m.n == UNSET) error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook value n is missing (A is given)");
+      if (m.A <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: A must be > 0, got {}", m.A);
+      if (m.B < 0.0) error->all(FLERR, "Pair sph/jc-thermal: B must be >= 0, got {}", m.B);
+      if (m.n <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: n must be > 0, got {}", m.n);
+      if (m.m != UNSET && (m.Tmelt == UNSET || m.Tref == UNSET))
+        error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook m needs Tref and Tmelt");
+    } else {
+      const char *jc[] = {"B", "C", "n", "m", "epsdot0"};
+      double *jcv[] = {&m.B, &m.C, &m.n, &m.m, &m.epsdot0};
+      for (int k = 0; k < 5; k++)
+        if (*jcv[k] != UNSET)
+          error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook value {} given without A", jc[k]);
+    }
+    if (m.eos == sphcut::EOS_MIE_GRUNEISEN && (m.gamma0 == UNSET || m.s_hug == UNSET))
+      error->all(FLERR, "Pair sph/jc-thermal: eos mie-gruneisen needs gamma0 and s");
+    // defaults
+    auto def = [](double &v, double d) { if (v == UNSET) v = d; };
+    def(m.B, 0.0);
+    def(m.C, 0.0);
+    def(m.n, 1.0);
+    def(m.m, 1.0);
+    def(m.epsdot0, 1.0);
+    def(m.Tref, 300.0);
+    def(m.Tmelt, 1.0e30);    // no thermal softening
+    def(m.cp, 0.0);
+    def(m.chi, 0.9);
+    def(m.kappa, 0.0);
+    def(m.av_alpha, 1.0);
+    def(m.av_beta, 1.0);
+    def(m.as_eps, 0.3);
+    def(m.as_n, 4.0);
+    def(m.xsph, 0.5);
+    def(m.gamma0, 0.0);
+    def(m.s_hug, 0.0);
+    if (m.epsdot0 <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: epsdot0 must be > 0, got {}", m.epsdot0);
+    if (m.Tmelt <= m.Tref)
+      error->all(FLERR, "Pair sph/jc-thermal: Tmelt {} must be above Tref {}", m.Tmelt, m.Tref);
+    if (m.cp < 0.0) error->all(FLERR, "Pair sph/jc-thermal: cp must be >= 0, got {}", m.cp);
+    if (m.chi < 0.0 || m.chi > 1.0) error->all(FLERR, "Pair sph/jc-thermal: chi must be in [0,1], got {}", m.chi);
+    if (m.kappa < 0.0) error->all(FLERR, "Pair sph/jc-thermal: k must be >= 0, got {}", m.kappa);
+    if (m.plastic && m.chi > 0.0 && m.cp == 0.0)
+      error->all(FLERR, "Pair sph/jc-thermal: cp is missing (needed for plastic heating with chi > 0; "
+                 "set chi 0 for an isothermal run)");
+    if (m.av_alpha < 0.0 || m.av_beta < 0.0)
+      error->all(FLERR, "Pair sph/jc-thermal: alpha and beta must be >= 0");
+    if (m.as_eps < 0.0) error->all(FLERR, "Pair sph/jc-thermal: as_eps must be >= 0, got {}", m.as_eps);
+    if (m.xsph < 0.0 || m.xsph > 1.0)
+      error->all(FLERR, "Pair sph/jc-thermal: xsph must be in [0,1], got {}", m.xsph);
+    sphcut::material_derive(m);
+    m.defined = 1;
+  }
+  if (h > 0.0 && hx > 0.0) error->all(FLERR, "Pair sph/jc-thermal: give either h or hdx, not both");
+
+  // material: the types t that lie in both ranges (the like pairs t,t)
+  int nlike = 0;
+  for (int t = std::max(ilo, jlo); t <= std::min(ihi, jhi); t++) {
+    if (nmat) mat[t] = m;
+    nlike++;
+  }
+  if (nmat && nlike == 0)
+    error->all(FLERR, "Pair sph/jc-thermal: material keywords need pair_coeff I I (or * *), got {} {}",
+               arg[0], arg[1]);
+  if (h > 0.0 || hx > 0.0) {
+    for (int i = ilo; i <= ihi; i++)
+      for (int j = std::max(jlo, i); j <= jhi; j++) {
+        hlen[i][j] = h;
+        hdx[i][j] = hx;
+        setflag[i][j] = 1;
+      }
+  } else if (!nmat) {
+    error->all(FLERR, "Pair sph/jc-thermal: pair_coeff {} {} sets nothing", arg[0], arg[1]);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHJCThermal::init_style()
+{
+  fix = nullptr;
+  for (int i = 0; i < modify->nfix; i++)
+    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
+      fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
+  if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
+
+  // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
+  const int n = atom->ntypes;
+  const int dim = domain->dimension;
+  std::vector<double> msum(n + 1, 0.0), cnt(n + 1, 0.0), gsum(n + 1), gcnt(n + 1);
+  for (int i = 0; i < atom->nlocal; i++) {
+    msum[atom->type[i]] += atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+    cnt[atom->type[i]] += 1.0;
+  }
+  MPI_Allreduce(msum.data(), gsum.data(), n + 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(cnt.data(), gcnt.data(), n + 1, MPI_DOUBLE, MPI_SUM, world);
+  for (int t = 1; t <= n; t++) {
+    dp[t] = 0.0;
+    if (mat[t].defined && gcnt[t] > 0.0) dp[t] = pow(gsum[t] / gcnt[t] / mat[t].rho0, 1.0 / dim);
+  }
+  neighbor->request(this, instance_me);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHJCThermal::init_one(int i, int j)
+{
+  if (!mat[i].defined) error->all(FLERR, "Pair sph/jc-thermal: no material for atom type {} (pair_coeff {} {} rho0 ...)", i, i, i);
+  if (!mat[j].defined) error->all(FLERR, "Pair sph/jc-thermal: no material for atom type {} (pair_coeff {} {} rho0 ...)", j, j, j);
+  double dpij = 0.5 * (dp[i] + dp[j]);
+  if (!setflag[i][j]) {
+    // mix: mean of the like-type smoothing lengths
+    if (!setflag[i][i] || !setflag[j][j])
+      error->all(FLERR, "Pair sph/jc-thermal: smoothing length (h or hdx) not set for types {} {}", i, j);
+    const double hi = hdx[i][i] > 0.0 ? hdx[i][i] * dp[i] : hlen[i][i];
+    const double hj = hdx[j][j] > 0.0 ? hdx[j][j] * dp[j] : hlen[j][j];
+    hlen[i][j] = 0.5 * (hi + hj);
+    hdx[i][j] = 0.0;
+  } else if (hdx[i][j] > 0.0) {
+    if (dpij <= 0.0)
+      error->all(FLERR, "Pair sph/jc-thermal: hdx needs atoms of types {} {} to derive the spacing", i, j);
+    hlen[i][j] = hdx[i][j] * dpij;
+  }
+  if (hlen[i][j] <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: smoothing length of types {} {} is not positive", i, j);
+  hlen[j][i] = hlen[i][j];
+  hdx[j][i] = hdx[i][j];
+  if (dpij <= 0.0) dpij = hlen[i][j] / 1.2;
+  wdp[i][j] = wdp[j][i] = sphcut::kernel_w(kernel_kind, domain->dimension, dpij, hlen[i][j]);
+  return 2.0 * hlen[i][j];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHJCThermal::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  double **x = atom->x;
+  double **f = atom->f;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const int newton_pair = force->newton_pair;
+  const int dim = domain->dimension;
+  const int groupbit = fix->groupbit;
+  double **st = fix->state;
+  using F = FixSPHJCThermal;
+
+  grow_scratch(atom->nmax);
+
+  // per particle (local + ghost): Cauchy stress and artificial stress of the force state
+  int any_as = 0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
+  const int nacc = newton_pair ? nall : nlocal;
+  for (int i = 0; i < nall; i++) {
+    if (i < nacc) {
+      drho_acc[i] = du_acc[i] = 0.0;
+      for (int k = 0; k < 9; k++) lgrad[i][k] = bmat[i][k] = 0.0;
+      xs_acc[i][0] = xs_acc[i][1] = xs_acc[i][2] = 0.0;
+    }
+    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    const Material &mt = mat[type[i]];
+    const double p = sphcut::eos_pressure(mt, st[i][F::RHO_F], st[i][F::TEMP_F]);
+    sphcut::cauchy_stress(&st[i][F::SF], p, sig[i]);
+    if (any_as) {
+      if (mt.as_eps > 0.0) sphcut::artificial_stress(mt.as_eps, sig[i], st[i][F::RHO_F], dim, rstress[i]);
+      else for (int k = 0; k < 6; k++) rstress[i][k] = 0.0;
+    }
+  }
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    const int itype = type[i];
+    const Material &mi_mat = mat[itype];
+    const double *si = st[i];
+    const double rhoi = si[F::RHO_F];
+    const double mi = rmass ? rmass[i] : mass[itype];
+    const double vi = mi / rhoi;
+    const double irho2 = 1.0 / (rhoi * rhoi);
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!(mask[j] & groupbit) || fix->role_of(mask[j]) == F::TOOL) continue;
+      const int jtype = type[j];
+      const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+      const double r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
+      if (r2 >= cutsq[itype][jtype] || r2 == 0.0) continue;
+      const double r = sqrt(r2);
+      const double h = hlen[itype][jtype];
+      double w, wfac;
+      sphcut::kernel_w_gradfac(kernel_kind, dim, r, h, w, wfac);
+      const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};    // grad_i W_ij
+
+      const double *sj = st[j];
+      const Material &mj_mat = mat[jtype];
+      const double rhoj = sj[F::RHO_F];
+      const double mj = rmass ? rmass[j] : mass[jtype];
+      const double vj = mj / rhoj;
+      const double dv[3] = {sj[F::VEST] - si[F::VEST], sj[F::VEST + 1] - si[F::VEST + 1],
+                            sj[F::VEST + 2] - si[F::VEST + 2]};
+
+      // bracket M_ij (symmetric tensor): sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi I + f^n (R_i + R_j)
+      const double irho2j = 1.0 / (rhoj * rhoj);
+      double M[6];
+      for (int k = 0; k < 6; k++) M[k] = sig[i][k] * irho2 + sig[j][k] * irho2j;
+      const double vr = -(dv[0] * dx[0] + dv[1] * dx[1] + dv[2] * dx[2]);    // (v_i-v_j).(x_i-x_j)
+      const double alpha = 0.5 * (mi_mat.av_alpha + mj_mat.av_alpha);
+      const double beta = 0.5 * (mi_mat.av_beta + mj_mat.av_beta);
+      const double pi_ij = sphcut::artificial_viscosity(alpha, beta, vr, r2, h, 0.5 * (mi_mat.c0 + mj_mat.c0),
+                                                        0.5 * (rhoi + rhoj));
+      M[sphcut::XX] -= pi_ij;
+      M[sphcut::YY] -= pi_ij;
+      M[sphcut::ZZ] -= pi_ij;
+      if (any_as) {
+        const double fn = pow(w / wdp[itype][jtype], 0.5 * (mi_mat.as_n + mj_mat.as_n));
+        for (int k = 0; k < 6; k++) M[k] += fn * (rstress[i][k] + rstress[j][k]);
+      }
+      double Mg[3];
+      sphcut::sym_apply(M, g, Mg);
+      const double mm = mi * mj;
+      const double fpair[3] = {mm * Mg[0], mm * Mg[1], mm * Mg[2]};
+      const double work = dv[0] * Mg[0] + dv[1] * Mg[1] + dv[2] * Mg[2];
+      const double dvg = dv[0] * g[0] + dv[1] * g[1] + dv[2] * g[2];
+      const double rhobar = 0.5 * (rhoi + rhoj);
+
+      f[i][0] += fpair[0];
+      f[i][1] += fpair[1];
+      f[i][2] += fpair[2];
+      drho_acc[i] += vj * dvg;
+      du_acc[i] += 0.5 * mj * work;
+      for (int a = 0; a < 3; a++) {
+        xs_acc[i][a] += mj / rhobar * dv[a] * w;
+        for (int b = 0; b < 3; b++) {
+          lgrad[i][3 * a + b] += vj * dv[a] * g[b];
+          bmat[i][3 * a + b] -= vj * dx[a] * g[b];
+        }
+      }
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= fpair[0];
+        f[j][1] -= fpair[1];
+        f[j][2] -= fpair[2];
+        drho_acc[j] += vi * dvg;
+        du_acc[j] += 0.5 * mi * work;
+        for (int a = 0; a < 3; a++) {
+          xs_acc[j][a] -= mi / rhobar * dv[a] * w;
+          for (int b = 0; b < 3; b++) {
+            lgrad[j][3 * a + b] += vi * dv[a] * g[b];
+            bmat[j][3 * a + b] -= vi * dx[a] * g[b];
+          }
+        }
+      }
+    }
+  }
+
+  if (newton_pair) sphcut::reverse_comm(comm, this);
+
+  // per particle: density rate, velocity gradient, Jaumann stress rate
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    double *s = st[i];
+    const Material &mt = mat[type[i]];
+    double L[9];
+    if (correction) {
+      double binv[9];
+      if (dim == 2) {
+        bmat[i][2] = bmat[i][5] = bmat[i][6] = bmat[i][7] = 0.0;
+        bmat[i][8] = 1.0;
+      }
+      sphcut::mat_inverse(bmat[i], binv, dim);
+      sphcut::mat_mul(lgrad[i], binv, L);
+    } else {
+      for (int k = 0; k < 9; k++) L[k] = lgrad[i][k];
+    }
+    if (dim == 2) L[2] = L[5] = L[6] = L[7] = L[8] = 0.0;
+    double ds[6];
+    sphcut::jaumann_rate(mt, L, &s[F::SF], ds);
+    s[F::DRHO] += -s[F::RHO_F] * drho_acc[i];
+    for (int k = 0; k < 6; k++) s[F::DS + k] += ds[k];
+    s[F::DU] += du_acc[i];
+    for (int a = 0; a < 3; a++) s[F::XSPH + a] = xs_acc[i][a];
+  }
+
+  if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairSPHJCThermal::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    buf[m++] = drho_acc[i];
+    for (int k = 0; k < 9; k++) buf[m++] = lgrad[i][k];
+    for (int k = 0; k < 9; k++) buf[m++] = bmat[i][k];
+    buf[m++] = du_acc[i];
+    for (int k = 0; k < 3; k++) buf[m++] = xs_acc[i][k];
+  }
+  return m;
+}
+
+void PairSPHJCThermal::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++) {
+    const int i = list[ii];
+    drho_acc[i] += buf[m++];
+    for (int k = 0; k < 9; k++) lgrad[i][k] += buf[m++];
+    for (int k = 0; k < 9; k++) bmat[i][k] += buf[m++];
+    du_acc[i] += buf[m++];
+    for (int k = 0; k < 3; k++) xs_acc[i][k] += buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHJCThermal::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  for (int i = 1; i <= atom->ntypes; i++) {
+    fwrite(&mat[i], sizeof(Material), 1, fp);
+    for (int j = i; j <= atom->ntypes; j++) {
+      fwrite(&setflag[i][j], sizeof(int), 1, fp);
+      if (setflag[i][j]) {
+        fwrite(&hlen[i][j], sizeof(double), 1, fp);
+        fwrite(&hdx[i][j], sizeof(double), 1, fp);
+      }
+    }
+  }
+}
+
+void PairSPHJCThermal::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  const int me = comm->me;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    if (me == 0) utils::sfread(FLERR, &mat[i], sizeof(Material), 1, fp, nullptr, error);
+    MPI_Bcast(&mat[i], sizeof(Material), MPI_BYTE, 0, world);
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+      if (setflag[i][j]) {
+        if (me == 0) {
+          utils::sfread(FLERR, &hlen[i][j], sizeof(double), 1, fp, nullptr, error);
+          utils::sfread(FLERR, &hdx[i][j], sizeof(double), 1, fp, nullptr, error);
+        }
+        MPI_Bcast(&hlen[i][j], 1, MPI_DOUBLE, 0, world);
+        MPI_Bcast(&hdx[i][j], 1, MPI_DOUBLE, 0, world);
+      }
+    }
+  }
+}
+
+void PairSPHJCThermal::write_restart_settings(FILE *fp)
+{
+  fwrite(&kernel_kind, sizeof(int), 1, fp);
+  fwrite(&correction, sizeof(int), 1, fp);
+}
+
+void PairSPHJCThermal::read_restart_settings(FILE *fp)
+{
+  if (comm->me == 0) {
+    utils::sfread(FLERR, &kernel_kind, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &correction, sizeof(int), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(&kernel_kind, 1, MPI_INT, 0, world);
+  MPI_Bcast(&correction, 1, MPI_INT, 0, world);
+}
+
+double PairSPHJCThermal::memory_usage()
+{
+  return (double) nmax * (6 + 6 + 1 + 9 + 9 + 1 + 3) * sizeof(double);
+}

@@ -1,0 +1,66 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - pair_style sph/jc-thermal: updated-Lagrangian SPH for
+   elasto-plastic solids with Johnson-Cook plasticity.
+------------------------------------------------------------------------- */
+
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(sph/jc-thermal,PairSPHJCThermal);
+// clang-format on
+#else
+
+#ifndef LMP_PAIR_SPH_JC_THERMAL_H
+#define LMP_PAIR_SPH_JC_THERMAL_H
+
+#include "pair.h"
+#include "sphcut_material.h"
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermal;
+
+class PairSPHJCThermal : public Pair {
+ public:
+  PairSPHJCThermal(class LAMMPS *);
+  ~PairSPHJCThermal() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+  double memory_usage() override;
+
+  // interface for fix sph/jc-thermal and the other sphcut styles
+  const sphcut::Material *materials() const { return mat; }
+  double smoothing_length(int itype) const { return hlen[itype][itype]; }
+  double smoothing_length(int itype, int jtype) const { return hlen[itype][jtype]; }
+  int kernel() const { return kernel_kind; }
+  FixSPHJCThermal *state_fix() const { return fix; }
+
+ protected:
+  int kernel_kind;
+  int correction;                 // 1: renormalised velocity gradient (exact for linear fields)
+  sphcut::Material *mat;          // per type, 1..ntypes
+  double **hlen;                  // smoothing length per type pair
+  double **hdx;                   // h given as a multiple of the particle spacing (0: not used)
+  double **wdp;                   // W(dp) per type pair (artificial stress reference)
+  double *dp;                     // particle spacing per type, from mass and rho0
+  FixSPHJCThermal *fix;
+
+  int nmax;                       // scratch arrays, local + ghost
+  double **sig, **rstress, *drho_acc, **lgrad, **bmat, *du_acc, **xs_acc;
+
+  void allocate();
+  void grow_scratch(int);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

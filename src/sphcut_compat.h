@@ -1,0 +1,33 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - the few LAMMPS API differences between the versions sphcut
+   builds against.  SPHCUT_LAMMPS_VERSION (YYYYMMDD) comes from CMake.
+     29Sep2021: comm->forward_comm_fix(fix), comm->reverse_comm_pair(pair), ...
+     >= 2Aug2023 (also 4Feb2025, 4Jul2026): comm->forward_comm(fix), ...
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_COMPAT_H
+#define SPHCUT_COMPAT_H
+
+#include "comm.h"
+
+#ifndef SPHCUT_LAMMPS_VERSION
+#define SPHCUT_LAMMPS_VERSION 20210929
+#endif
+
+namespace sphcut {
+
+// the overloaded comm->forward_comm(Fix *) etc. replaced the *_fix/_pair names in 2022
+#if SPHCUT_LAMMPS_VERSION >= 20220803
+template <class T> inline void forward_comm(LAMMPS_NS::Comm *comm, T *obj) { comm->forward_comm(obj); }
+template <class T> inline void reverse_comm(LAMMPS_NS::Comm *comm, T *obj) { comm->reverse_comm(obj); }
+#else
+inline void forward_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Fix *obj) { comm->forward_comm_fix(obj); }
+inline void reverse_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Fix *obj) { comm->reverse_comm_fix(obj); }
+inline void forward_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *obj) { comm->forward_comm_pair(obj); }
+inline void reverse_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *obj) { comm->reverse_comm_pair(obj); }
+inline void forward_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Compute *obj) { comm->forward_comm_compute(obj); }
+#endif
+
+}    // namespace sphcut
+
+#endif

@@ -1,0 +1,227 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - material and per-pair physics of the solid SPH scheme
+   (host and device).  Equation numbers: seed 003 = Afrasiabi et al.,
+   "SPH simulation of orthogonal cutting with enhanced thermal modeling";
+   seed 000 = Fraser et al., "thermo-mechanical contact in SPH".
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_MATERIAL_H
+#define SPHCUT_MATERIAL_H
+
+#include "sphcut_math.h"
+
+namespace sphcut {
+
+enum EosKind { EOS_LINEAR = 0, EOS_MIE_GRUNEISEN = 1 };
+
+// Plain-old-data material record, one per atom type (copyable to the device).
+struct Material {
+  int defined;        // set by pair_coeff
+  // elasticity and EOS
+  double rho0, E, nu;
+  double G, K, c0;    // derived: shear, bulk modulus, bulk sound speed sqrt(K/rho0)
+  double cl;          // derived: longitudinal wave speed sqrt((K + 4G/3)/rho0)
+  int eos;
+  double gamma0, s_hug;   // Mie-Grueneisen: Grueneisen gamma and Hugoniot slope s
+  // Johnson-Cook, eq. (9) of seed 003
+  int plastic;        // 0: elastic only
+  double A, B, C, n, m, epsdot0, Tref, Tmelt;
+  // thermal
+  double cp, chi, kappa;  // heat capacity, Taylor-Quinney fraction, conductivity
+  // stabilisation
+  double av_alpha, av_beta;   // Monaghan artificial viscosity
+  double as_eps, as_n;        // Gray-Monaghan artificial stress
+  double xsph;                // XSPH epsilon
+};
+
+SPHCUT_INLINE void material_derive(Material &mat)
+{
+  mat.G = mat.E / (2.0 * (1.0 + mat.nu));
+  mat.K = mat.E / (3.0 * (1.0 - 2.0 * mat.nu));
+  mat.c0 = sqrt(mat.K / mat.rho0);
+  mat.cl = sqrt((mat.K + 4.0 * mat.G / 3.0) / mat.rho0);
+}
+
+/* ---- equation of state: pressure (positive in compression) ----------
+   linear: p = c0^2 (rho - rho0)
+   Mie-Grueneisen (Hugoniot reference, mu = rho/rho0 - 1, e = cp (T - Tref)):
+     mu > 0: p = rho0 c0^2 mu (1 + (1 - gamma0/2) mu) / (1 - (s-1) mu)^2 + gamma0 rho0 e
+     mu < 0: p = rho0 c0^2 mu + gamma0 rho0 e                                          */
+SPHCUT_INLINE double eos_pressure(const Material &mat, double rho, double T)
+{
+  if (mat.eos == EOS_MIE_GRUNEISEN) {
+    const double mu = rho / mat.rho0 - 1.0;
+    const double e = mat.cp * (T - mat.Tref);
+    const double rc2 = mat.rho0 * mat.c0 * mat.c0;
+    if (mu > 0.0) {
+      const double den = 1.0 - (mat.s_hug - 1.0) * mu;
+      return rc2 * mu * (1.0 + (1.0 - 0.5 * mat.gamma0) * mu) / (den * den) +
+          mat.gamma0 * mat.rho0 * e;
+    }
+    return rc2 * mu + mat.gamma0 * mat.rho0 * e;
+  }
+  return mat.c0 * mat.c0 * (rho - mat.rho0);
+}
+
+/* ---- Johnson-Cook flow stress, seed 003 eq. (9) ---------------------
+   sigma_y = (A + B eps^n) (1 + C ln(max(epsdot/epsdot0, 1))) (1 - T*^m),
+   T* = (T - Tref)/(Tmelt - Tref) clamped to [0,1].                    */
+SPHCUT_INLINE double jc_thermal_factor(const Material &mat, double T)
+{
+  double ts = (T - mat.Tref) / (mat.Tmelt - mat.Tref);
+  if (ts <= 0.0) return 1.0;
+  if (ts >= 1.0) return 0.0;
+  return 1.0 - pow(ts, mat.m);
+}
+
+SPHCUT_INLINE double jc_rate_factor(const Material &mat, double epsdot)
+{
+  const double r = epsdot / mat.epsdot0;
+  return r > 1.0 ? 1.0 + mat.C * log(r) : 1.0;
+}
+
+SPHCUT_INLINE double jc_hardening(const Material &mat, double eps)
+{
+  return mat.A + (eps > 0.0 ? mat.B * pow(eps, mat.n) : 0.0);
+}
+
+SPHCUT_INLINE double jc_flow_stress(const Material &mat, double eps, double epsdot, double T)
+{
+  return jc_hardening(mat, eps) * jc_rate_factor(mat, epsdot) * jc_thermal_factor(mat, T);
+}
+
+/* ---- radial return ----------------------------------------------------
+   s: trial deviatoric stress (Voigt, modified in place).  Solves
+     q_trial - 3 G deps = sigma_y(eps + deps, deps/dt, T)
+   for the plastic strain increment deps >= 0 by a safeguarded Newton
+   iteration (bisection fallback), then scales s onto the yield surface.
+   Returns deps; *sigy receives the flow stress at the returned state.   */
+SPHCUT_INLINE double radial_return(const Material &mat, double *s, double eps, double T, double dt,
+                                   double *sigy)
+{
+  const double q = von_mises(s);
+  const double ft = jc_thermal_factor(mat, T);
+  double y0 = jc_hardening(mat, eps) * ft;    // rate factor >= 1, so this is the lowest yield stress
+  if (!mat.plastic || q <= y0) {
+    if (sigy) *sigy = jc_flow_stress(mat, eps, 0.0, T);
+    return 0.0;
+  }
+  const double G3 = 3.0 * mat.G;
+  double lo = 0.0, hi = q / G3;    // f(lo) > 0, f(hi) = -sigma_y <= 0
+  double d = (q - y0) / G3;        // perfectly plastic, rate-independent guess
+  double y = y0;
+  for (int it = 0; it < 50; it++) {
+    const double e = eps + d;
+    const double hard = jc_hardening(mat, e);
+    const double rate = jc_rate_factor(mat, d / dt);
+    y = hard * rate * ft;
+    const double f = q - G3 * d - y;
+    if (f > 0.0) lo = d; else hi = d;
+    if (fabs(f) <= 1.0e-12 * q) break;
+    double dh = e > 0.0 ? mat.B * mat.n * pow(e, mat.n - 1.0) : 0.0;
+    if (!(dh < 1.0e30)) dh = 1.0e30;
+    const double dr = (d / dt > mat.epsdot0 && d > 0.0) ? mat.C / d : 0.0;
+    const double df = -G3 - ft * (dh * rate + hard * dr);
+    double dn = d - f / df;
+    if (!(dn > lo && dn < hi)) dn = 0.5 * (lo + hi);
+    if (fabs(dn - d) <= 1.0e-14 * (hi > 0.0 ? hi : 1.0)) { d = dn; break; }
+    d = dn;
+  }
+  const double qn = q - G3 * d;
+  const double scale = qn > 0.0 ? qn / q : 0.0;
+  for (int k = 0; k < 6; k++) s[k] *= scale;
+  if (sigy) *sigy = qn > 0.0 ? qn : 0.0;
+  return d;
+}
+
+/* ---- Jaumann rate of the deviatoric stress -----------------------------
+   L: velocity gradient (row major, L_ab = dv_a/dx_b); s: deviatoric stress.
+   ds = 2G (D - tr(D)/3 I) + W s - s W,  D = sym(L), W = skew(L).
+   In 2D (plane strain) L has only the x-y block; D_zz = 0 still feeds
+   the deviator, so s_zz evolves as -2G tr(D)/3.  Returns tr(D).        */
+SPHCUT_INLINE double jaumann_rate(const Material &mat, const double *L, const double *s, double *ds)
+{
+  double D[6];
+  D[XX] = L[0];
+  D[YY] = L[4];
+  D[ZZ] = L[8];
+  D[XY] = 0.5 * (L[1] + L[3]);
+  D[XZ] = 0.5 * (L[2] + L[6]);
+  D[YZ] = 0.5 * (L[5] + L[7]);
+  const double trd = D[XX] + D[YY] + D[ZZ];
+  deviator(D);
+  // spin W_ab = (L_ab - L_ba)/2
+  const double wxy = 0.5 * (L[1] - L[3]);
+  const double wxz = 0.5 * (L[2] - L[6]);
+  const double wyz = 0.5 * (L[5] - L[7]);
+  // (W s - s W) = W s + (W s)^T for symmetric s and antisymmetric W
+  // W = [[0, wxy, wxz], [-wxy, 0, wyz], [-wxz, -wyz, 0]]
+  const double S[3][3] = {{s[XX], s[XY], s[XZ]}, {s[XY], s[YY], s[YZ]}, {s[XZ], s[YZ], s[ZZ]}};
+  const double W[3][3] = {{0.0, wxy, wxz}, {-wxy, 0.0, wyz}, {-wxz, -wyz, 0.0}};
+  double WS[3][3];
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) WS[a][b] = W[a][0] * S[0][b] + W[a][1] * S[1][b] + W[a][2] * S[2][b];
+  const double g2 = 2.0 * mat.G;
+  ds[XX] = g2 * D[XX] + 2.0 * WS[0][0];
+  ds[YY] = g2 * D[YY] + 2.0 * WS[1][1];
+  ds[ZZ] = g2 * D[ZZ] + 2.0 * WS[2][2];
+  ds[XY] = g2 * D[XY] + WS[0][1] + WS[1][0];
+  ds[XZ] = g2 * D[XZ] + WS[0][2] + WS[2][0];
+  ds[YZ] = g2 * D[YZ] + WS[1][2] + WS[2][1];
+  return trd;
+}
+
+/* ---- artificial viscosity (Monaghan 1992), Pi_ij of seed 003 eq. (11) --
+   vr = (v_i - v_j).(x_i - x_j); Pi >= 0 for approaching pairs.  It enters
+   the momentum bracket with a minus sign (repulsive).                   */
+SPHCUT_INLINE double artificial_viscosity(double alpha, double beta, double vr, double r2, double h,
+                                          double cbar, double rhobar)
+{
+  if (vr >= 0.0) return 0.0;
+  const double mu = h * vr / (r2 + 0.01 * h * h);
+  return (-alpha * cbar * mu + beta * mu * mu) / rhobar;
+}
+
+/* ---- artificial stress (Gray, Monaghan & Swift 2001), Lambda of eq. (11) --
+   per particle: R = sum over principal directions with tensile principal
+   stress sigma_p > 0 of  -eps sigma_p / rho^2  (rotated back).
+   pair term: f^n (R_i + R_j), f = W(r)/W(dp).                           */
+SPHCUT_INLINE void artificial_stress(double eps, const double *sigma, double rho, int dim, double *R)
+{
+  double lam[3], q[9];
+  if (dim == 2) sym_eigen_2d(sigma, lam, q);
+  else sym_eigen(sigma, lam, q);
+  double rp[3];
+  for (int k = 0; k < 3; k++) rp[k] = lam[k] > 0.0 ? -eps * lam[k] / (rho * rho) : 0.0;
+  // R = Q diag(rp) Q^T
+  R[XX] = q[0] * q[0] * rp[0] + q[1] * q[1] * rp[1] + q[2] * q[2] * rp[2];
+  R[YY] = q[3] * q[3] * rp[0] + q[4] * q[4] * rp[1] + q[5] * q[5] * rp[2];
+  R[ZZ] = q[6] * q[6] * rp[0] + q[7] * q[7] * rp[1] + q[8] * q[8] * rp[2];
+  R[XY] = q[0] * q[3] * rp[0] + q[1] * q[4] * rp[1] + q[2] * q[5] * rp[2];
+  R[XZ] = q[0] * q[6] * rp[0] + q[1] * q[7] * rp[1] + q[2] * q[8] * rp[2];
+  R[YZ] = q[3] * q[6] * rp[0] + q[4] * q[7] * rp[1] + q[5] * q[8] * rp[2];
+  if (dim == 2) R[XZ] = R[YZ] = 0.0;
+}
+
+// total Cauchy stress sigma = s - p I (Voigt)
+SPHCUT_INLINE void cauchy_stress(const double *s, double p, double *sigma)
+{
+  sigma[XX] = s[XX] - p;
+  sigma[YY] = s[YY] - p;
+  sigma[ZZ] = s[ZZ] - p;
+  sigma[XY] = s[XY];
+  sigma[XZ] = s[XZ];
+  sigma[YZ] = s[YZ];
+}
+
+// y = M x for symmetric M (Voigt) and a 3-vector x
+SPHCUT_INLINE void sym_apply(const double *M, const double *x, double *y)
+{
+  y[0] = M[XX] * x[0] + M[XY] * x[1] + M[XZ] * x[2];
+  y[1] = M[XY] * x[0] + M[YY] * x[1] + M[YZ] * x[2];
+  y[2] = M[XZ] * x[0] + M[YZ] * x[1] + M[ZZ] * x[2];
+}
+
+}    // namespace sphcut
+
+#endif

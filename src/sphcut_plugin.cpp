@@ -1,0 +1,54 @@
+/* ----------------------------------------------------------------------
+   sphcut - registration of all sphcut styles with LAMMPS (plugin load)
+------------------------------------------------------------------------- */
+
+#include "lammpsplugin.h"
+#include "version.h"
+
+#include "fix_sph_jc_thermal.h"
+#include "pair_sph_jc_thermal.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+template <class T> Pair *pair_creator(LAMMPS *lmp) { return new T(lmp); }
+template <class T> Fix *fix_creator(LAMMPS *lmp, int argc, char **argv) { return new T(lmp, argc, argv); }
+template <class T> Compute *compute_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new T(lmp, argc, argv);
+}
+
+void add(lammpsplugin_regfunc reg, void *lmp, void *handle, const char *style, const char *name,
+         const char *info, void *creator)
+{
+  lammpsplugin_t plugin;
+  plugin.version = LAMMPS_VERSION;
+  plugin.style = style;
+  plugin.name = name;
+  plugin.info = info;
+  plugin.author = "sphcut developers";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) creator;
+  plugin.handle = handle;
+  (*reg)(&plugin, lmp);
+}
+
+}    // namespace
+
+#ifdef SPHCUT_HAVE_KOKKOS
+void sphcut_register_kokkos(lammpsplugin_regfunc reg, void *lmp, void *handle);
+#endif
+
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+  auto reg = (lammpsplugin_regfunc) regfunc;
+  add(reg, lmp, handle, "pair", "sph/jc-thermal",
+      "sphcut " SPHCUT_VERSION ": updated-Lagrangian SPH solid, Johnson-Cook plasticity",
+      (void *) &pair_creator<PairSPHJCThermal>);
+  add(reg, lmp, handle, "fix", "sph/jc-thermal",
+      "sphcut " SPHCUT_VERSION ": SPH solid state and time integration",
+      (void *) &fix_creator<FixSPHJCThermal>);
+#ifdef SPHCUT_HAVE_KOKKOS
+  sphcut_register_kokkos(reg, lmp, handle);
+#endif
+}

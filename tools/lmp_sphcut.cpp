@@ -1,0 +1,87 @@
+/* ----------------------------------------------------------------------
+   sphcut launcher: the LAMMPS main program, plus loading every plugin in
+   the folders named by LAMMPS_PLUGIN_PATH (colon separated) before the
+   input is read.  LAMMPS versions from 2022 on do the latter themselves;
+   29Sep2021 does not, so `$LMP` from build/env.sh points here.
+------------------------------------------------------------------------- */
+
+#include "accelerator_kokkos.h"
+#include "input.h"
+#include "lammps.h"
+#include "lmppython.h"
+#if defined(LAMMPS_EXCEPTIONS)
+#include "exceptions.h"
+#endif
+
+#include <dirent.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+using namespace LAMMPS_NS;
+
+static std::vector<std::string> plugins_in_path()
+{
+  std::vector<std::string> found;
+  const char *env = getenv("LAMMPS_PLUGIN_PATH");
+  if (!env) return found;
+  std::string path(env);
+  size_t start = 0;
+  while (start <= path.size()) {
+    size_t end = path.find(':', start);
+    if (end == std::string::npos) end = path.size();
+    std::string dir = path.substr(start, end - start);
+    start = end + 1;
+    if (dir.empty()) continue;
+    DIR *d = opendir(dir.c_str());
+    if (!d) continue;
+    std::vector<std::string> here;
+    while (struct dirent *e = readdir(d)) {
+      std::string name(e->d_name);
+      const std::string tail = "plugin.so";
+      if (name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0)
+        here.push_back(dir + "/" + name);
+    }
+    closedir(d);
+    std::sort(here.begin(), here.end());
+    found.insert(found.end(), here.begin(), here.end());
+  }
+  return found;
+}
+
+static void run(int argc, char **argv, MPI_Comm comm)
+{
+  LAMMPS *lammps = new LAMMPS(argc, argv, comm);
+  for (const auto &p : plugins_in_path()) lammps->input->one(("plugin load " + p).c_str());
+  lammps->input->file();
+  delete lammps;
+}
+
+int main(int argc, char **argv)
+{
+  MPI_Init(&argc, &argv);
+  MPI_Comm comm = MPI_COMM_WORLD;
+  int rc = 0;
+#if defined(LAMMPS_EXCEPTIONS)
+  try {
+    run(argc, argv, comm);
+  } catch (LAMMPSAbortException &ae) {
+    KokkosLMP::finalize();
+    Python::finalize();
+    MPI_Abort(ae.universe, 1);
+  } catch (LAMMPSException &e) {
+    rc = 1;
+  }
+#else
+  run(argc, argv, comm);
+#endif
+  KokkosLMP::finalize();
+  Python::finalize();
+  MPI_Barrier(comm);
+  MPI_Finalize();
+  return rc;
+}
