@@ -88,6 +88,8 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   }
   if (toolbit && (toolbit == clampbit))
     error->all(FLERR, "Fix sph/jc-thermal: tool and clamp must be different groups");
+  if (cfl == 0.0 && (dtmax > 0.0 || dtmin > 0.0))
+    error->all(FLERR, "Fix sph/jc-thermal: dtmax and dtmin need the adaptive time step (keyword cfl)");
   if (dtmin > 0.0 && dtmax > 0.0 && dtmin > dtmax)
     error->all(FLERR, "Fix sph/jc-thermal: dtmin {} is larger than dtmax {}", dtmin, dtmax);
 
@@ -96,7 +98,8 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   vector_flag = 1;
   size_vector = 6;
   global_freq = 1;
-  extvector = 0;
+  extvector = -1;
+  extlist = new int[6]{0, 1, 1, 1, 0, 0};    // energies are extensive
   peratom_flag = 1;
   size_peratom_cols = NOUT;
   peratom_freq = 1;
@@ -121,6 +124,7 @@ FixSPHJCThermal::~FixSPHJCThermal()
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(state);
+  delete[] extlist;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -162,6 +166,10 @@ void FixSPHJCThermal::init()
     }
   if (count && comm->me == 0)
     error->warning(FLERR, "Fix sph/jc-thermal: another time integration fix acts on its group");
+  int ninst = 0;
+  for (int i = 0; i < modify->nfix; i++)
+    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal")) ninst++;
+  if (ninst > 1) error->all(FLERR, "Fix sph/jc-thermal: only one instance is allowed, found {}", ninst);
   heat_active = 0;
   for (int i = 0; i < modify->nfix; i++)
     if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) heat_active = 1;
@@ -397,7 +405,7 @@ void FixSPHJCThermal::setup(int)
 
 /* ----------------------------------------------------------------------
    global vector: 1 dt, 2 internal energy sum m u, 3 kinetic energy of the
-   workpiece, 4 plastic work, 5 max temperature, 6 max plastic strain
+   non-tool particles, 4 plastic work, 5 max temperature, 6 max plastic strain
 ------------------------------------------------------------------------- */
 
 double FixSPHJCThermal::compute_vector(int n)
@@ -493,10 +501,12 @@ void FixSPHJCThermal::write_restart(FILE *fp)
   double total = 0.0;
   MPI_Allreduce(&plastic_work, &total, 1, MPI_DOUBLE, MPI_SUM, world);
   if (comm->me == 0) {
-    double list[3] = {(double) NCOL, (double) force_state_valid, total};
-    int size = 3 * sizeof(double);
+    // the elapsed time too: LAMMPS 29Sep2021 restarts it at 0, which an adaptive dt cannot undo
+    const double now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+    double list[4] = {(double) NCOL, (double) force_state_valid, total, now};
+    int size = 4 * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 3, fp);
+    fwrite(list, sizeof(double), 4, fp);
   }
 }
 
@@ -508,6 +518,10 @@ void FixSPHJCThermal::restart(char *buf)
                static_cast<int>(list[0]), (int) NCOL);
   force_state_valid = static_cast<int>(list[1]);
   plastic_work = comm->me == 0 ? list[2] : 0.0;
+  if (update->atime == 0.0 && update->atimestep == 0) {
+    update->atime = list[3];
+    update->atimestep = update->ntimestep;
+  }
 }
 
 /* ---------------------------------------------------------------------- */

@@ -78,7 +78,7 @@ class FixSPHJCThermal : public Fix {
   int force_state_valid;      // force-state columns hold the last predictor (continued run)
   double cfl;                 // > 0: adaptive time step with this Courant number
   double dtmax, dtmin;
-  double thermal_cfl;         // fraction of the explicit thermal limit rho cp h^2 / (2 d k)
+  double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
   int heat_active;            // a heat fix integrates conduction: apply the thermal limit
   double plastic_work;        // accumulated plastic work (energy units), this rank
   void initialize_atom(int);

@@ -28,9 +28,11 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "update.h"
 
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
+#include "sphcut_pair.h"
 
 #include <cmath>
 #include <cstring>
@@ -232,6 +234,14 @@ void PairSPHJCThermal::coeff(int narg, char **arg)
     }
     if (m.eos == sphcut::EOS_MIE_GRUNEISEN && (m.gamma0 == UNSET || m.s_hug == UNSET))
       error->all(FLERR, "Pair sph/jc-thermal: eos mie-gruneisen needs gamma0 and s");
+    if (m.eos != sphcut::EOS_MIE_GRUNEISEN && (m.gamma0 != UNSET || m.s_hug != UNSET))
+      error->all(FLERR, "Pair sph/jc-thermal: gamma0 and s are Mie-Grueneisen values (add eos mie-gruneisen)");
+    if (m.eos == sphcut::EOS_MIE_GRUNEISEN && m.gamma0 > 0.0 && (m.cp == UNSET || m.cp <= 0.0))
+      error->all(FLERR, "Pair sph/jc-thermal: eos mie-gruneisen with gamma0 > 0 needs cp (thermal pressure)");
+    if (m.C != UNSET && m.C < 0.0) error->all(FLERR, "Pair sph/jc-thermal: C must be >= 0, got {}", m.C);
+    if (m.m != UNSET && m.m <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: m must be > 0, got {}", m.m);
+    if (m.Tref != UNSET && m.Tref < 0.0) error->all(FLERR, "Pair sph/jc-thermal: Tref must be >= 0, got {}", m.Tref);
+    if (m.as_n != UNSET && m.as_n <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: as_n must be > 0, got {}", m.as_n);
     // defaults
     auto def = [](double &v, double d) { if (v == UNSET) v = d; };
     def(m.B, 0.0);
@@ -280,11 +290,13 @@ void PairSPHJCThermal::coeff(int narg, char **arg)
     error->all(FLERR, "Pair sph/jc-thermal: material keywords need pair_coeff I I (or * *), got {} {}",
                arg[0], arg[1]);
   if (h > 0.0 || hx > 0.0) {
+    // pair_coeff 2 1 sets the pair (1,2)
     for (int i = ilo; i <= ihi; i++)
-      for (int j = std::max(jlo, i); j <= jhi; j++) {
-        hlen[i][j] = h;
-        hdx[i][j] = hx;
-        setflag[i][j] = 1;
+      for (int j = jlo; j <= jhi; j++) {
+        const int a = std::min(i, j), b = std::max(i, j);
+        hlen[a][b] = h;
+        hdx[a][b] = hx;
+        setflag[a][b] = 1;
       }
   } else if (!nmat) {
     error->all(FLERR, "Pair sph/jc-thermal: pair_coeff {} {} sets nothing", arg[0], arg[1]);
@@ -300,6 +312,15 @@ void PairSPHJCThermal::init_style()
     if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
       fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
   if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
+  // the scheme applies no unit conversion factors: only self-consistent unit styles
+  const std::string units = update->unit_style;
+  if (units != "si" && units != "cgs" && units != "micro" && units != "nano" && units != "lj")
+    error->all(FLERR, "Pair sph/jc-thermal needs a self-consistent unit style (si, cgs, micro, nano, lj), got {}",
+               units);
+  // bonds and special lists would silently remove SPH neighbours from the list
+  if (atom->molecular != 0)
+    error->all(FLERR, "Pair sph/jc-thermal requires an atomic (non-molecular) atom style, got {}",
+               atom->atom_style);
 
   // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
   const int n = atom->ntypes;
@@ -352,12 +373,8 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
 
-  double **x = atom->x;
-  double **f = atom->f;
   const int *type = atom->type;
   const int *mask = atom->mask;
-  const double *rmass = atom->rmass;
-  const double *mass = atom->mass;
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int newton_pair = force->newton_pair;
@@ -389,96 +406,12 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
     }
   }
 
-  const int inum = list->inum;
-  const int *ilist = list->ilist;
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-
-  for (int ii = 0; ii < inum; ii++) {
-    const int i = ilist[ii];
-    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
-    const int itype = type[i];
-    const Material &mi_mat = mat[itype];
-    const double *si = st[i];
-    const double rhoi = si[F::RHO_F];
-    const double mi = rmass ? rmass[i] : mass[itype];
-    const double vi = mi / rhoi;
-    const double irho2 = 1.0 / (rhoi * rhoi);
-    const int *jlist = firstneigh[i];
-    const int jnum = numneigh[i];
-
-    for (int jj = 0; jj < jnum; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      if (!(mask[j] & groupbit) || fix->role_of(mask[j]) == F::TOOL) continue;
-      const int jtype = type[j];
-      const double dx[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
-      const double r2 = dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2];
-      if (r2 >= cutsq[itype][jtype] || r2 == 0.0) continue;
-      const double r = sqrt(r2);
-      const double h = hlen[itype][jtype];
-      double w, wfac;
-      sphcut::kernel_w_gradfac(kernel_kind, dim, r, h, w, wfac);
-      const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};    // grad_i W_ij
-
-      const double *sj = st[j];
-      const Material &mj_mat = mat[jtype];
-      const double rhoj = sj[F::RHO_F];
-      const double mj = rmass ? rmass[j] : mass[jtype];
-      const double vj = mj / rhoj;
-      const double dv[3] = {sj[F::VEST] - si[F::VEST], sj[F::VEST + 1] - si[F::VEST + 1],
-                            sj[F::VEST + 2] - si[F::VEST + 2]};
-
-      // bracket M_ij (symmetric tensor): sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi I + f^n (R_i + R_j)
-      const double irho2j = 1.0 / (rhoj * rhoj);
-      double M[6];
-      for (int k = 0; k < 6; k++) M[k] = sig[i][k] * irho2 + sig[j][k] * irho2j;
-      const double vr = -(dv[0] * dx[0] + dv[1] * dx[1] + dv[2] * dx[2]);    // (v_i-v_j).(x_i-x_j)
-      const double alpha = 0.5 * (mi_mat.av_alpha + mj_mat.av_alpha);
-      const double beta = 0.5 * (mi_mat.av_beta + mj_mat.av_beta);
-      const double pi_ij = sphcut::artificial_viscosity(alpha, beta, vr, r2, h, 0.5 * (mi_mat.c0 + mj_mat.c0),
-                                                        0.5 * (rhoi + rhoj));
-      M[sphcut::XX] -= pi_ij;
-      M[sphcut::YY] -= pi_ij;
-      M[sphcut::ZZ] -= pi_ij;
-      if (any_as) {
-        const double fn = pow(w / wdp[itype][jtype], 0.5 * (mi_mat.as_n + mj_mat.as_n));
-        for (int k = 0; k < 6; k++) M[k] += fn * (rstress[i][k] + rstress[j][k]);
-      }
-      double Mg[3];
-      sphcut::sym_apply(M, g, Mg);
-      const double mm = mi * mj;
-      const double fpair[3] = {mm * Mg[0], mm * Mg[1], mm * Mg[2]};
-      const double work = dv[0] * Mg[0] + dv[1] * Mg[1] + dv[2] * Mg[2];
-      const double dvg = dv[0] * g[0] + dv[1] * g[1] + dv[2] * g[2];
-      const double rhobar = 0.5 * (rhoi + rhoj);
-
-      f[i][0] += fpair[0];
-      f[i][1] += fpair[1];
-      f[i][2] += fpair[2];
-      drho_acc[i] += vj * dvg;
-      du_acc[i] += 0.5 * mj * work;
-      for (int a = 0; a < 3; a++) {
-        xs_acc[i][a] += mj / rhobar * dv[a] * w;
-        for (int b = 0; b < 3; b++) {
-          lgrad[i][3 * a + b] += vj * dv[a] * g[b];
-          bmat[i][3 * a + b] -= vj * dx[a] * g[b];
-        }
-      }
-      if (newton_pair || j < nlocal) {
-        f[j][0] -= fpair[0];
-        f[j][1] -= fpair[1];
-        f[j][2] -= fpair[2];
-        drho_acc[j] += vi * dvg;
-        du_acc[j] += 0.5 * mi * work;
-        for (int a = 0; a < 3; a++) {
-          xs_acc[j][a] -= mi / rhobar * dv[a] * w;
-          for (int b = 0; b < 3; b++) {
-            lgrad[j][3 * a + b] += vi * dv[a] * g[b];
-            bmat[j][3 * a + b] -= vi * dx[a] * g[b];
-          }
-        }
-      }
-    }
+  if (dim == 2) {
+    if (newton_pair) pair_loop<2, 1>(any_as);
+    else pair_loop<2, 0>(any_as);
+  } else {
+    if (newton_pair) pair_loop<3, 1>(any_as);
+    else pair_loop<3, 0>(any_as);
   }
 
   if (newton_pair) sphcut::reverse_comm(comm, this);
@@ -510,6 +443,97 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
   }
 
   if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* ----------------------------------------------------------------------
+   the neighbour loop: per pair arithmetic in sphcut::pair_terms, here only
+   the gathering of inputs and the accumulation (i, and j for newton)
+------------------------------------------------------------------------- */
+
+template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
+{
+  double **x = atom->x;
+  double **f = atom->f;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int nlocal = atom->nlocal;
+  const int groupbit = fix->groupbit;
+  double **st = fix->state;
+  using F = FixSPHJCThermal;
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  sphcut::PairIn in;
+  sphcut::PairOut out;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    const int itype = type[i];
+    const Material &mi_mat = mat[itype];
+    const double *si = st[i];
+    const double mi = rmass ? rmass[i] : mass[itype];
+    const double vi = mi / si[F::RHO_F];
+    in.rho_i = si[F::RHO_F];
+    in.sig_i = sig[i];
+    in.R_i = any_as ? rstress[i] : nullptr;
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!(mask[j] & groupbit) || fix->role_of(mask[j]) == F::TOOL) continue;
+      const int jtype = type[j];
+      for (int a = 0; a < 3; a++) in.dx[a] = x[i][a] - x[j][a];
+      in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+      if (in.r2 >= cutsq[itype][jtype] || in.r2 == 0.0) continue;
+
+      const double *sj = st[j];
+      const Material &mj_mat = mat[jtype];
+      const double mj = rmass ? rmass[j] : mass[jtype];
+      const double vj = mj / sj[F::RHO_F];
+      for (int a = 0; a < 3; a++) in.dv[a] = sj[F::VEST + a] - si[F::VEST + a];
+      in.h = hlen[itype][jtype];
+      in.wdp = wdp[itype][jtype];
+      in.rho_j = sj[F::RHO_F];
+      in.sig_j = sig[j];
+      in.R_j = any_as ? rstress[j] : nullptr;
+      in.as_n = 0.5 * (mi_mat.as_n + mj_mat.as_n);
+      in.alpha = 0.5 * (mi_mat.av_alpha + mj_mat.av_alpha);
+      in.beta = 0.5 * (mi_mat.av_beta + mj_mat.av_beta);
+      in.cbar = 0.5 * (mi_mat.c0 + mj_mat.c0);
+      sphcut::pair_terms<DIM>(kernel_kind, in, out);
+
+      const double mm = mi * mj;
+      const double xsfac = out.w / (0.5 * (in.rho_i + in.rho_j));
+      for (int a = 0; a < DIM; a++) f[i][a] += mm * out.Mg[a];
+      drho_acc[i] += vj * out.dvg;
+      du_acc[i] += 0.5 * mj * out.work;
+      for (int a = 0; a < DIM; a++) {
+        xs_acc[i][a] += mj * xsfac * in.dv[a];
+        for (int b = 0; b < DIM; b++) {
+          lgrad[i][3 * a + b] += vj * in.dv[a] * out.g[b];
+          bmat[i][3 * a + b] -= vj * in.dx[a] * out.g[b];
+        }
+      }
+      if (NEWTON || j < nlocal) {
+        for (int a = 0; a < DIM; a++) f[j][a] -= mm * out.Mg[a];
+        drho_acc[j] += vi * out.dvg;
+        du_acc[j] += 0.5 * mi * out.work;
+        for (int a = 0; a < DIM; a++) {
+          xs_acc[j][a] -= mi * xsfac * in.dv[a];
+          for (int b = 0; b < DIM; b++) {
+            lgrad[j][3 * a + b] += vi * in.dv[a] * out.g[b];
+            bmat[j][3 * a + b] -= vi * in.dx[a] * out.g[b];
+          }
+        }
+      }
+    }
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -582,16 +606,24 @@ void PairSPHJCThermal::read_restart(FILE *fp)
 
 void PairSPHJCThermal::write_restart_settings(FILE *fp)
 {
+  const int matsize = sizeof(Material);
+  fwrite(&matsize, sizeof(int), 1, fp);
   fwrite(&kernel_kind, sizeof(int), 1, fp);
   fwrite(&correction, sizeof(int), 1, fp);
 }
 
 void PairSPHJCThermal::read_restart_settings(FILE *fp)
 {
+  int matsize = 0;
   if (comm->me == 0) {
+    utils::sfread(FLERR, &matsize, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &kernel_kind, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &correction, sizeof(int), 1, fp, nullptr, error);
   }
+  MPI_Bcast(&matsize, 1, MPI_INT, 0, world);
+  if (matsize != (int) sizeof(Material))
+    error->all(FLERR, "Pair sph/jc-thermal: restart file written by another sphcut version "
+               "(material record {} bytes, this version {})", matsize, (int) sizeof(Material));
   MPI_Bcast(&kernel_kind, 1, MPI_INT, 0, world);
   MPI_Bcast(&correction, 1, MPI_INT, 0, world);
 }

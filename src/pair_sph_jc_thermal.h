@@ -57,6 +57,7 @@ class PairSPHJCThermal : public Pair {
   double **sig, **rstress, *drho_acc, **lgrad, **bmat, *du_acc, **xs_acc;
 
   void allocate();
+  template <int DIM, int NEWTON> void pair_loop(int any_as);
   void grow_scratch(int);
 };
 

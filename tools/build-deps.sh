@@ -25,7 +25,7 @@ LAMMPS_DEB_VERSION="20220106.git7586adbb6a+ds1-2"
 TRILINOS_DEB_VERSION="13.2.0-4"
 KOKKOS_VERSION="3.4.01"
 # bump when the build recipe below changes, so old caches are not reused
-RECIPE=1
+RECIPE=2
 
 CUDA=0
 JOBS=$(nproc)
@@ -246,7 +246,7 @@ cmake -S "$LSRC/cmake" -B "$PREFIX/build/lammps" -G "$GEN" \
   -DCMAKE_INSTALL_PREFIX="$PREFIX" -DCMAKE_INSTALL_LIBDIR=lib \
   -DCMAKE_INSTALL_RPATH="$PREFIX/lib" -DLAMMPS_INSTALL_RPATH=ON \
   -DBUILD_SHARED_LIBS=ON -DBUILD_MPI=ON -DBUILD_OMP=ON -DLAMMPS_EXCEPTIONS=ON \
-  -DPKG_PLUGIN=ON -DPKG_KOKKOS=ON -DEXTERNAL_KOKKOS=ON -DKokkos_DIR="$PREFIX/lib/cmake/Kokkos" \
+  -DPKG_PLUGIN=ON -DPKG_MOLECULE=ON -DPKG_KOKKOS=ON -DEXTERNAL_KOKKOS=ON -DKokkos_DIR="$PREFIX/lib/cmake/Kokkos" \
   -DCMAKE_CXX_STANDARD=$CXXSTD -DPKG_OPENMP=ON "${CMP_PKGS[@]}" \
   > "$PREFIX/build-lammps.log" 2>&1 || { tail -30 "$PREFIX/build-lammps.log"; exit 1; }
 cmake --build "$PREFIX/build/lammps" -j "$JOBS" >> "$PREFIX/build-lammps.log" 2>&1 \

@@ -1,0 +1,412 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - thermal arithmetic of seed 003 (host and device): the
+   second-order FMFS Laplacian of Fatehi & Manzari (seed 003 eqs. 13-15),
+   the Brookshaw Laplacian (seed 003 eq. 12) with the harmonic-mean
+   heat-flux form of seed 000 eq. 6, and the free-surface indicator of
+   Marrone et al. (2010) (seed 003 sec. 4.2).
+
+   Header only, no heap, no exceptions, fixed-size arrays: every function
+   is SPHCUT_INLINE so the same code runs in the CPU styles and on device.
+
+   Conventions
+     FMFS / surface:  r = x_j - x_i, e = r/|r|, g = grad_i W_ij,
+                      V = V_j = m_j/rho_j, dT = T_j - T_i
+     Brookshaw:       dx = x_i - x_j (as in sphcut_pair.h), g = grad_i W_ij
+   Inputs r, dx, g are double[3]; only the first DIM components are read.
+
+   FMFS, derivation (exact for quadratic T; verified by unittest/test_fmfs):
+   per particle accumulate (all sums over neighbours j, times V_j)
+     B_ab    = sum r_a g_b                  A = B^-1   (seed 003 eq. 14)
+     gT_b    = sum dT g_b
+     T3_abc  = sum e_a e_b g_c
+     Q3_abc  = sum r_a r_b g_c
+     P4_abcd = sum r_a e_b e_c g_d          (fully symmetric in a,b,c)
+     S1_cd   = sum 2 dT/|r| e_c g_d
+   With T_j - T_i = r.D + 1/2 r.H.r (D = grad T, H = Hessian, exact for a
+   quadratic field):
+     gT = B^T D + 1/2 H:Q3   =>  grad~ = A^T gT = D + 1/2 A^T (H:Q3)
+     S1_cd = 2 D_e T3_ecd + H_ab P4_abcd
+     S_cd  = S1_cd - 2 grad~_e T3_ecd = H_ab M_abcd,
+     M_abcd = P4_abcd - Q3_abf A_fe T3_ecd
+   (for radial kernels B and A are symmetric and A_fe = A_ef).  The
+   symmetric G with sum_cd G_cd M_abcd = delta_ab for every symmetric pair
+   (ab) gives  G:S = H_ab delta_ab = tr H = lap T.  M is symmetric in (ab)
+   and only the symmetric part of G matters, so the unknowns are the
+   DIM(DIM+1)/2 entries G_cd, c <= d: a 3x3 (2D) or 6x6 (3D) system.
+   This is seed 003 eq. 15 with the sign of its r_ij = x_i - x_j absorbed.
+
+   Internal packing (dimension independent, "colex" order):
+     pair   (a <= b)      -> a + b(b+1)/2                 (NS = DIM(DIM+1)/2)
+     triple (a <= b <= c) -> a + b(b+1)/2 + c(c+1)(c+2)/6 (NT = DIM(DIM+1)(DIM+2)/6)
+   Storage: 2D 32 doubles, 3D 90 doubles.
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_THERMAL_H
+#define SPHCUT_THERMAL_H
+
+#include "sphcut_math.h"
+
+namespace sphcut {
+
+// ---------------------------------------------------------------------------
+// small dense linear algebra (N <= 6), partial pivoting, no allocation
+
+// packed index of the symmetric pair (a,b) and of the symmetric triple (a,b,c)
+SPHCUT_INLINE int sym_pair_index(int a, int b)
+{
+  if (a > b) { const int t = a; a = b; b = t; }
+  return a + b * (b + 1) / 2;
+}
+
+SPHCUT_INLINE int sym_triple_index(int a, int b, int c)
+{
+  if (a > b) { const int t = a; a = b; b = t; }
+  if (b > c) { const int t = b; b = c; c = t; }
+  if (a > b) { const int t = a; a = b; b = t; }
+  return a + b * (b + 1) / 2 + c * (c + 1) * (c + 2) / 6;
+}
+
+// solve a x = b in place (x returned in b); a is destroyed.  Returns false
+// when a pivot falls below tol * max|a_ij| (singular or ill-conditioned).
+template <int N>
+SPHCUT_INLINE bool dense_solve(double (&a)[N][N], double (&b)[N], double tol)
+{
+  double scale = 0.0;
+  for (int i = 0; i < N; i++)
+    for (int j = 0; j < N; j++) scale = fmax(scale, fabs(a[i][j]));
+  if (!(scale > 0.0)) return false;    // also catches NaN
+  const double pmin = tol * scale;
+  for (int k = 0; k < N; k++) {
+    int p = k;
+    double pmax = fabs(a[k][k]);
+    for (int i = k + 1; i < N; i++)
+      if (fabs(a[i][k]) > pmax) { pmax = fabs(a[i][k]); p = i; }
+    if (!(pmax > pmin)) return false;
+    if (p != k) {
+      for (int j = 0; j < N; j++) { const double t = a[k][j]; a[k][j] = a[p][j]; a[p][j] = t; }
+      const double t = b[k]; b[k] = b[p]; b[p] = t;
+    }
+    const double inv = 1.0 / a[k][k];
+    for (int i = k + 1; i < N; i++) {
+      const double f = a[i][k] * inv;
+      if (f == 0.0) continue;
+      for (int j = k + 1; j < N; j++) a[i][j] -= f * a[k][j];
+      b[i] -= f * b[k];
+    }
+  }
+  for (int k = N - 1; k >= 0; k--) {
+    double s = b[k];
+    for (int j = k + 1; j < N; j++) s -= a[k][j] * b[j];
+    b[k] = s / a[k][k];
+  }
+  return true;
+}
+
+// inverse of a small dense matrix by Gauss-Jordan with partial pivoting;
+// false (and inv = identity) when singular/ill-conditioned as above
+template <int N>
+SPHCUT_INLINE bool dense_inverse(const double (&a)[N][N], double (&inv)[N][N], double tol)
+{
+  double m[N][N];
+  double scale = 0.0;
+  for (int i = 0; i < N; i++)
+    for (int j = 0; j < N; j++) {
+      m[i][j] = a[i][j];
+      inv[i][j] = i == j ? 1.0 : 0.0;
+      scale = fmax(scale, fabs(a[i][j]));
+    }
+  if (!(scale > 0.0)) return false;
+  const double pmin = tol * scale;
+  for (int k = 0; k < N; k++) {
+    int p = k;
+    double pmax = fabs(m[k][k]);
+    for (int i = k + 1; i < N; i++)
+      if (fabs(m[i][k]) > pmax) { pmax = fabs(m[i][k]); p = i; }
+    if (!(pmax > pmin)) {
+      for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) inv[i][j] = i == j ? 1.0 : 0.0;
+      return false;
+    }
+    if (p != k)
+      for (int j = 0; j < N; j++) {
+        double t = m[k][j]; m[k][j] = m[p][j]; m[p][j] = t;
+        t = inv[k][j]; inv[k][j] = inv[p][j]; inv[p][j] = t;
+      }
+    const double d = 1.0 / m[k][k];
+    for (int j = 0; j < N; j++) { m[k][j] *= d; inv[k][j] *= d; }
+    for (int i = 0; i < N; i++) {
+      if (i == k) continue;
+      const double f = m[i][k];
+      if (f == 0.0) continue;
+      for (int j = 0; j < N; j++) { m[i][j] -= f * m[k][j]; inv[i][j] -= f * inv[k][j]; }
+    }
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// FMFS Laplacian (Fatehi & Manzari; seed 003 eqs. 13-15)
+
+// relative pivot tolerance below which B or the G system counts as singular
+#define SPHCUT_FMFS_TOL 1.0e-10
+
+template <int DIM> struct FmfsAccum {
+  static constexpr int NS = DIM * (DIM + 1) / 2;              // symmetric pairs
+  static constexpr int NT = DIM * (DIM + 1) * (DIM + 2) / 6;  // symmetric triples
+  double B[DIM][DIM];     // sum r_a g_b V
+  double gT[DIM];         // sum dT g V
+  double gs[DIM];         // sum g V (surface normal)
+  double T3[NS][DIM];     // sum e_a e_b g_c V          [pair(a,b)][c]
+  double Q3[NS][DIM];     // sum r_a r_b g_c V          [pair(a,b)][c]
+  double P4[NT][DIM];     // sum |r| e_a e_b e_c g_d V  [triple(a,b,c)][d]
+  double S1[DIM][DIM];    // sum 2 dT/|r| e_c g_d V
+};
+
+template <int DIM>
+SPHCUT_INLINE void fmfs_zero(FmfsAccum<DIM> &acc)
+{
+  for (int a = 0; a < DIM; a++) {
+    acc.gT[a] = acc.gs[a] = 0.0;
+    for (int b = 0; b < DIM; b++) acc.B[a][b] = acc.S1[a][b] = 0.0;
+  }
+  for (int p = 0; p < FmfsAccum<DIM>::NS; p++)
+    for (int c = 0; c < DIM; c++) acc.T3[p][c] = acc.Q3[p][c] = 0.0;
+  for (int t = 0; t < FmfsAccum<DIM>::NT; t++)
+    for (int d = 0; d < DIM; d++) acc.P4[t][d] = 0.0;
+}
+
+// add neighbour j: r = x_j - x_i, g = grad_i W_ij, V = m_j/rho_j, dT = T_j - T_i
+template <int DIM>
+SPHCUT_INLINE void fmfs_add(FmfsAccum<DIM> &acc, const double *r, const double *g, double V,
+                            double dT)
+{
+  double r2 = 0.0;
+  for (int a = 0; a < DIM; a++) r2 += r[a] * r[a];
+  if (!(r2 > 0.0)) return;    // coincident particle carries no information
+  const double rn = sqrt(r2), irn = 1.0 / rn;
+  double e[DIM], gv[DIM];
+  for (int a = 0; a < DIM; a++) {
+    e[a] = r[a] * irn;
+    gv[a] = g[a] * V;
+  }
+  const double s1 = 2.0 * dT * irn;
+  for (int a = 0; a < DIM; a++) {
+    acc.gT[a] += dT * gv[a];
+    acc.gs[a] += gv[a];
+    for (int b = 0; b < DIM; b++) {
+      acc.B[a][b] += r[a] * gv[b];
+      acc.S1[a][b] += s1 * e[a] * gv[b];
+    }
+  }
+  int p = 0, t = 0;
+  for (int c = 0; c < DIM; c++)
+    for (int b = 0; b <= c; b++) {
+      // pair (b,c), index b + c(c+1)/2 == p
+      const double ee = e[b] * e[c];
+      for (int d = 0; d < DIM; d++) {
+        acc.T3[p][d] += ee * gv[d];
+        acc.Q3[p][d] += r2 * ee * gv[d];
+      }
+      p++;
+      for (int a = 0; a <= b; a++) {
+        // triple (a,b,c), index a + b(b+1)/2 + c(c+1)(c+2)/6 == t
+        const double eee = rn * e[a] * ee;
+        for (int d = 0; d < DIM; d++) acc.P4[t][d] += eee * gv[d];
+        t++;
+      }
+    }
+}
+
+// consistent gradient grad T = A^T gT, A = B^-1 (exact for linear T).
+// Returns false (grad = 0) when B is singular.
+template <int DIM>
+SPHCUT_INLINE bool fmfs_gradient(const FmfsAccum<DIM> &acc, double *grad, double tol = SPHCUT_FMFS_TOL)
+{
+  double A[DIM][DIM];
+  const bool ok = dense_inverse<DIM>(acc.B, A, tol);
+  for (int f = 0; f < DIM; f++) {
+    double s = 0.0;
+    if (ok)
+      for (int c = 0; c < DIM; c++) s += A[c][f] * acc.gT[c];
+    grad[f] = s;
+  }
+  return ok;
+}
+
+// second-order Laplacian lap = G:S.  Returns false (lap = 0) when B or the
+// G system is singular/ill-conditioned: the caller falls back to Brookshaw.
+template <int DIM>
+SPHCUT_INLINE bool fmfs_laplacian(const FmfsAccum<DIM> &acc, double &lap, double tol = SPHCUT_FMFS_TOL)
+{
+  constexpr int NS = FmfsAccum<DIM>::NS;
+  lap = 0.0;
+  double A[DIM][DIM];
+  if (!dense_inverse<DIM>(acc.B, A, tol)) return false;
+
+  // first-order gradient grad~ = A^T gT
+  double grad[DIM];
+  for (int f = 0; f < DIM; f++) {
+    double s = 0.0;
+    for (int c = 0; c < DIM; c++) s += A[c][f] * acc.gT[c];
+    grad[f] = s;
+  }
+
+  // S_cd = S1_cd - 2 grad~_e T3_ecd
+  double S[DIM][DIM];
+  for (int c = 0; c < DIM; c++)
+    for (int d = 0; d < DIM; d++) {
+      double s = acc.S1[c][d];
+      for (int e = 0; e < DIM; e++) s -= 2.0 * grad[e] * acc.T3[sym_pair_index(e, c)][d];
+      S[c][d] = s;
+    }
+
+  // W_ab,e = Q3_abf A_fe
+  double W[NS][DIM];
+  for (int p = 0; p < NS; p++)
+    for (int e = 0; e < DIM; e++) {
+      double s = 0.0;
+      for (int f = 0; f < DIM; f++) s += acc.Q3[p][f] * A[f][e];
+      W[p][e] = s;
+    }
+
+  // K_(ab),(cd) = M_abcd + M_abdc (c < d) or M_abcc (c == d),
+  // M_abcd = P4_abcd - W_ab,e T3_ecd;  rhs delta_ab
+  double K[NS][NS], rhs[NS], Ssym[NS];
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) {
+      const int p = sym_pair_index(a, b);
+      rhs[p] = a == b ? 1.0 : 0.0;
+      for (int d = 0; d < DIM; d++)
+        for (int c = 0; c <= d; c++) {
+          const int q = sym_pair_index(c, d);
+          double m = acc.P4[sym_triple_index(a, b, c)][d];
+          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
+          if (c != d) {
+            m += acc.P4[sym_triple_index(a, b, d)][c];
+            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
+          }
+          K[p][q] = m;
+        }
+    }
+  for (int d = 0; d < DIM; d++)
+    for (int c = 0; c <= d; c++) Ssym[sym_pair_index(c, d)] = c == d ? S[c][c] : S[c][d] + S[d][c];
+
+  if (!dense_solve<NS>(K, rhs, tol)) return false;    // rhs <- G (packed)
+  double l = 0.0;
+  for (int q = 0; q < NS; q++) l += rhs[q] * Ssym[q];
+  if (!(fabs(l) < 1.0e300)) return false;    // NaN / overflow guard
+  lap = l;
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Brookshaw Laplacian (seed 003 eq. 12) and heat flux (seed 000 eq. 6)
+
+// harmonic mean 2 ki kj / (ki + kj) (0 when both vanish)
+SPHCUT_INLINE double harmonic_mean(double ki, double kj)
+{
+  const double s = ki + kj;
+  return s != 0.0 ? 2.0 * ki * kj / s : 0.0;
+}
+
+// per-pair Brookshaw Laplacian term: lap T_i = sum_j V_j brookshaw_term,
+//   brookshaw_term = 2 (T_i - T_j) (dx . g) / |dx|^2,  dx = x_i - x_j, g = grad_i W_ij
+// (dx . g < 0 for the usual kernels, so T = x^2 gives +2 in the interior)
+template <int DIM>
+SPHCUT_INLINE double brookshaw_term(double Ti, double Tj, const double *dx, const double *g)
+{
+  double r2 = 0.0, dg = 0.0;
+  for (int a = 0; a < DIM; a++) {
+    r2 += dx[a] * dx[a];
+    dg += dx[a] * g[a];
+  }
+  return r2 > 0.0 ? 2.0 * (Ti - Tj) * dg / r2 : 0.0;
+}
+
+// per-pair heat-flux term of seed 000 eq. 6 (Jubelgas, harmonic-mean conductivity):
+//   p_ij = 4 ki kj / (ki + kj) (T_i - T_j) (dx . g) / |dx|^2
+// so that rho_i cp_i dT_i/dt = sum_j V_j p_ij  (= div(k grad T)).
+// p_ij = -p_ji exactly (dx, g and T_i - T_j all flip), hence with newton
+//   rho_i cp_i dT_i/dt += V_j p_ij,   rho_j cp_j dT_j/dt -= V_i p_ij
+// conserves sum_i m_i cp_i T_i exactly (the pair moves V_i V_j p_ij of energy).
+template <int DIM>
+SPHCUT_INLINE double brookshaw_pair(double Ti, double Tj, double ki, double kj, const double *dx,
+                                    const double *g)
+{
+  return harmonic_mean(ki, kj) * brookshaw_term<DIM>(Ti, Tj, dx, g);
+}
+
+// same for radial kernels given wfac of kernel_w_gradfac (g = wfac dx, so
+// (dx . g)/|dx|^2 = wfac): p_ij = 4 ki kj/(ki + kj) (T_i - T_j) wfac
+SPHCUT_INLINE double brookshaw_pair_radial(double Ti, double Tj, double ki, double kj, double wfac)
+{
+  return 2.0 * harmonic_mean(ki, kj) * (Ti - Tj) * wfac;
+}
+
+// ---------------------------------------------------------------------------
+// free-surface indicator (Marrone et al. 2010; seed 003 sec. 4.2)
+
+// lambda = minimum eigenvalue of the symmetric part of B = sum r (x) g V
+// (~1 inside a full kernel support, smaller at the surface; seed 003 uses
+// lambda <= 0.75 to mark surface particles).  Marrone's lambda is the
+// minimum eigenvalue of L^-1 with L the renormalisation matrix, i.e. of B
+// itself (not of A = B^-1 as seed 003's wording suggests).
+template <int DIM>
+SPHCUT_INLINE double surface_lambda(const double (&B)[DIM][DIM])
+{
+  if (DIM == 2) {
+    const double bxy = 0.5 * (B[0][1] + B[1][0]);
+    const double m = 0.5 * (B[0][0] + B[1][1]);
+    const double d = 0.5 * (B[0][0] - B[1][1]);
+    return m - sqrt(d * d + bxy * bxy);
+  }
+  double s[6], lam[3], q[9];
+  s[XX] = B[0][0];
+  s[YY] = B[1 % DIM][1 % DIM];
+  s[ZZ] = B[2 % DIM][2 % DIM];
+  s[XY] = 0.5 * (B[0][1 % DIM] + B[1 % DIM][0]);
+  s[XZ] = 0.5 * (B[0][2 % DIM] + B[2 % DIM][0]);
+  s[YZ] = 0.5 * (B[1 % DIM][2 % DIM] + B[2 % DIM][1 % DIM]);
+  sym_eigen(s, lam, q);
+  return fmin(lam[0], fmin(lam[1], lam[2]));
+}
+
+template <int DIM>
+SPHCUT_INLINE double surface_lambda(const FmfsAccum<DIM> &acc)
+{
+  return surface_lambda<DIM>(acc.B);
+}
+
+// outward surface normal n = -normalize(A^T gs), A = B^-1, gs = sum_j g V_j.
+// Returns false (n = 0) when B is singular or A^T gs vanishes (full support).
+template <int DIM>
+SPHCUT_INLINE bool surface_normal(const double (&B)[DIM][DIM], const double *gs, double *n,
+                                  double tol = SPHCUT_FMFS_TOL)
+{
+  double A[DIM][DIM];
+  const bool ok = dense_inverse<DIM>(B, A, tol);
+  double v[DIM], n2 = 0.0;
+  for (int f = 0; f < DIM; f++) {
+    double s = 0.0;
+    for (int c = 0; c < DIM; c++) s += A[c][f] * gs[c];
+    v[f] = s;
+    n2 += s * s;
+  }
+  if (!ok || !(n2 > 0.0)) {
+    for (int f = 0; f < DIM; f++) n[f] = 0.0;
+    return false;
+  }
+  const double inv = -1.0 / sqrt(n2);
+  for (int f = 0; f < DIM; f++) n[f] = v[f] * inv;
+  return true;
+}
+
+template <int DIM>
+SPHCUT_INLINE bool surface_normal(const FmfsAccum<DIM> &acc, double *n, double tol = SPHCUT_FMFS_TOL)
+{
+  return surface_normal<DIM>(acc.B, acc.gs, n, tol);
+}
+
+}    // namespace sphcut
+
+#endif

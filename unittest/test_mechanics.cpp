@@ -1,0 +1,289 @@
+// pair sph/jc-thermal + fix sph/jc-thermal: patch tests, elastic wave speed, oscillating
+// plate, and bad input.  Each test asserts physics against an analytic answer.
+#include "sphcut_test.h"
+
+#include "fix_sph_jc_thermal.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+using LAMMPS_NS::FixSPHJCThermal;
+using sphcut_test::Lammps;
+using F = FixSPHJCThermal;
+
+namespace {
+
+FixSPHJCThermal *state_fix(Lammps &l, const char *id = "sph")
+{
+  // the class lives in the plugin: check the style, then cast without RTTI
+  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix(id)];
+  EXPECT_STREQ(f->style, "sph/jc-thermal");
+  return static_cast<FixSPHJCThermal *>(f);
+}
+
+// 2D square block of nx x ny particles, spacing dx, centred at the origin, elastic material
+void block2d(Lammps &l, int nx, int ny, double dx, const std::string &extra = "")
+{
+  const double rho = 7800.0;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "lattice sq " + std::to_string(dx),
+          "region box block " + std::to_string(-nx) + " " + std::to_string(nx) + " " +
+              std::to_string(-ny) + " " + std::to_string(ny) + " -0.5 0.5",
+          "create_box 1 box",
+          "region blk block " + std::to_string(-0.5 * (nx - 1) - 0.01) + " " +
+              std::to_string(0.5 * (nx - 1) + 0.01) + " " + std::to_string(-0.5 * (ny - 1) - 0.01) + " " +
+              std::to_string(0.5 * (ny - 1) + 0.01) + " -0.5 0.5",
+          "create_atoms 1 region blk",
+          "mass 1 " + std::to_string(rho * dx * dx),
+          "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 alpha 1.0 beta 1.0 " + extra,
+          "fix sph all sph/jc-thermal", "timestep 1e-9"});
+}
+
+}    // namespace
+
+// rigid translation: no density or stress rate anywhere, and after 200 steps the state is unchanged
+TEST(Patch, RigidTranslation2D)
+{
+  Lammps l;
+  block2d(l, 12, 8, 1.0e-3);
+  l.cmds({"velocity all set 3.0 -2.0 0.0 units box", "run 0"});
+  auto *fix = state_fix(l);
+  const int n = l.lmp->atom->nlocal;
+  for (int i = 0; i < n; i++) {
+    EXPECT_EQ(fix->state[i][F::DRHO], 0.0);
+    for (int k = 0; k < 6; k++) EXPECT_EQ(fix->state[i][F::DS + k], 0.0);
+  }
+  double x0[2] = {l.lmp->atom->x[0][0], l.lmp->atom->x[0][1]};
+  l.cmd("run 200");
+  const double t = 200 * 1e-9;
+  for (int i = 0; i < n; i++) {
+    EXPECT_NEAR(fix->state[i][F::RHO], 7800.0, 1e-9);
+    EXPECT_NEAR(fix->state[i][F::VM], 0.0, 1e-6);
+    EXPECT_NEAR(l.lmp->atom->v[i][0], 3.0, 1e-9);
+  }
+  const int i0 = l.lmp->atom->map(1);
+  (void) x0;
+  EXPECT_NEAR(l.lmp->atom->x[i0][0] - x0[0], 3.0 * t, 1e-12);
+}
+
+// rigid rotation of a pre-stressed block: no strain rate (drho = 0, symmetric part of L = 0);
+// the stress rate is exactly the Jaumann rotation W s - s W at every particle, surface included
+TEST(Patch, RigidRotationJaumannOnly2D)
+{
+  Lammps l;
+  block2d(l, 12, 8, 1.0e-3);
+  const double omega = 50.0, s0 = 1.0e8, sxy = 2.0e7;
+  l.cmds({"variable vx atom -" + std::to_string(omega) + "*y", "variable vy atom " + std::to_string(omega) + "*x",
+          "velocity all set v_vx v_vy 0.0 units box", "run 0 post no"});
+  auto *fix = state_fix(l);
+  const int n = l.lmp->atom->nlocal;
+  // set a deviatoric stress sxx = s0, syy = -s0, sxy, recompute the rates from it
+  for (int i = 0; i < n; i++) {
+    double *s = fix->state[i];
+    s[F::SXX] = s[F::SF] = s0;
+    s[F::SYY] = s[F::SF + 1] = -s0;
+    s[F::SXY] = s[F::SF + 3] = sxy;
+  }
+  l.cmd("run 0 post no");
+  // W = [[0, -omega], [omega, 0]] (L_xy = dvx/dy = -omega): (W s - s W)
+  const double dxx = -2.0 * omega * sxy;    // (Ws - sW)_xx = 2 W_xy s_xy
+  const double dyy = 2.0 * omega * sxy;
+  const double dxy = omega * (s0 - (-s0));    // W_yx s_xx - s_yy W_yx ... = omega (sxx - syy)
+  for (int i = 0; i < n; i++) {
+    const double *s = fix->state[i];
+    EXPECT_NEAR(s[F::DRHO], 0.0, 1e-9 * 7800.0 * omega);
+    EXPECT_NEAR(s[F::DS + 0], dxx, 1e-8 * s0 * omega);
+    EXPECT_NEAR(s[F::DS + 1], dyy, 1e-8 * s0 * omega);
+    EXPECT_NEAR(s[F::DS + 2], 0.0, 1e-8 * s0 * omega);
+    EXPECT_NEAR(s[F::DS + 3], dxy, 1e-8 * s0 * omega);
+  }
+}
+
+// without the renormalisation the surface particles see a spurious strain rate: the
+// correction is what makes the patch test pass (guards against dropping it by accident)
+TEST(Patch, RotationWithoutCorrectionIsWrongAtSurface)
+{
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "lattice sq 1e-3", "region box block -12 12 -8 8 -0.5 0.5", "create_box 1 box",
+          "region blk block -5.51 5.51 -3.51 3.51 -0.5 0.5", "create_atoms 1 region blk",
+          "mass 1 0.0078", "pair_style sph/jc-thermal correction no",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal",
+          "timestep 1e-9", "variable vx atom -50*y", "variable vy atom 50*x", "velocity all set v_vx v_vy 0.0 units box",
+          "run 0"});
+  auto *fix = state_fix(l);
+  double maxds = 0.0;
+  for (int i = 0; i < l.lmp->atom->nlocal; i++) maxds = std::max(maxds, fabs(fix->state[i][F::DS + 3]));
+  EXPECT_GT(maxds, 1.0e6);    // 2 G D_xy with D_xy = O(omega) at the corners
+}
+
+// longitudinal (P) wave in a laterally periodic strip: c = sqrt((K + 4G/3)/rho) within 3 %
+TEST(Elastic, LongitudinalWaveSpeed2D)
+{
+  Lammps l;
+  const int nx = 40, ny = 4;
+  const double dx = 1.0e-3, E = 200e9, nu = 0.3, rho = 7800.0;
+  const double K = E / (3 * (1 - 2 * nu)), G = E / (2 * (1 + nu));
+  const double c = sqrt((K + 4 * G / 3) / rho);
+  const double lx = nx * dx;
+  l.cmds({"units si", "dimension 2", "boundary p p p", "atom_style atomic", "atom_modify map array",
+          "lattice sq " + std::to_string(dx), "region box block 0 40 0 4 -0.5 0.5", "create_box 1 box",
+          "create_atoms 1 box", "mass 1 " + std::to_string(rho * dx * dx), "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 alpha 0.0 beta 0.0 as_eps 0.0 xsph 0.0",
+          "fix sph all sph/jc-thermal cfl 0.2",
+          "variable vx atom 0.01*cos(2*PI*x/" + std::to_string(lx) + ")", "velocity all set v_vx 0 0 units box",
+          "run 0"});
+  // standing wave v = A cos(kx) cos(wt): the velocity at x = 0 crosses zero at T/4 and 3T/4
+  const int id = 1;    // atom at x = 0
+  double tprev = 0.0, vprev = 0.01, cross[2] = {0, 0};
+  int nc = 0;
+  const double tend = 1.2 * lx / c;
+  while (nc < 2 && l.lmp->update->atime + 1e-30 < tend) {
+    l.cmd("run 5 pre no post no");
+    const double t = l.lmp->update->atime + (l.lmp->update->ntimestep - l.lmp->update->atimestep) * l.lmp->update->dt;
+    const double v = l.lmp->atom->v[l.lmp->atom->map(id)][0];
+    if (v * vprev < 0.0) cross[nc++] = tprev + (t - tprev) * vprev / (vprev - v);
+    tprev = t;
+    vprev = v;
+  }
+  ASSERT_EQ(nc, 2);
+  const double period = 2.0 * (cross[1] - cross[0]);
+  const double csph = lx / period;
+  std::printf("[ wave     ] c_sph = %.2f m/s, theory %.2f m/s (%+.2f %%)\n", csph, c, 100 * (csph - c) / c);
+  EXPECT_NEAR(csph, c, 0.03 * c);
+}
+
+// bad input: each a LAMMPS error with a message naming the problem
+TEST(BadInput, PairAndFix)
+{
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "lattice sq 1e-3",
+          "region box block 0 4 0 4 -0.5 0.5", "create_box 1 box", "create_atoms 1 box", "mass 1 0.0078",
+          "pair_style sph/jc-thermal"});
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 colour red",
+                               "unknown pair_coeff keyword colour"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 nu 0.3 h 1e-3", "material value E is missing"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h -1e-3", "h must be > 0, got -0.001"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.6 h 1e-3", "nu must be in (-1,0.5), got 0.6"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 A 1e8 n 0.3",
+                               "Johnson-Cook value B is missing"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 A 1e8 B 1e8 n 0.3",
+                               "cp is missing"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 eos ideal", "unknown eos ideal"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 abc E 200e9 nu 0.3 h 1e-3", "abc"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 A 1e8 B 1e8 n 0.3 C -0.1 chi 0",
+                               "C must be >= 0, got -0.1"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 gamma0 2.0",
+                               "gamma0 and s are Mie-Grueneisen values"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal dtmax 1e-9", "dtmax and dtmin need the adaptive time step"));
+  l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1.3e-3");
+  EXPECT_TRUE(l.error_contains("run 0", "requires fix sph/jc-thermal"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal temp -5", "temp must be >= 0, got -5"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl", "keyword cfl needs a value"));
+}
+
+TEST(BadInput, UnitsWithConversionFactors)
+{
+  Lammps l;
+  l.cmds({"units metal", "dimension 2", "boundary f f p", "atom_style atomic", "lattice sq 1.0",
+          "region box block 0 4 0 4 -0.5 0.5", "create_box 1 box", "create_atoms 1 box", "mass 1 1.0",
+          "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 1 E 1 nu 0.3 h 1.3", "fix sph all sph/jc-thermal"});
+  EXPECT_TRUE(l.error_contains("run 0", "needs a self-consistent unit style (si, cgs, micro, nano, lj), got metal"));
+}
+
+TEST(BadInput, WrongAtomStyle)
+{
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style bond", "lattice sq 1e-3",
+          "region box block 0 4 0 4 -0.5 0.5", "create_box 1 box bond/types 1 extra/bond/per/atom 2",
+          "create_atoms 1 box", "mass 1 0.0078", "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1.3e-3", "bond_style zero", "bond_coeff 1",
+          "fix sph all sph/jc-thermal"});
+  EXPECT_TRUE(l.error_contains("run 0", "requires an atomic (non-molecular) atom style, got bond"));
+}
+
+// oscillating plate (examples/oscillating-plate): first period within 5 % of beam theory,
+// kinetic + internal energy drift < 2 % over 3 periods with low artificial viscosity
+TEST(Elastic, OscillatingPlate)
+{
+  Lammps l;
+  l.cmds({"variable periods index 3", "variable alpha index 0.1"});
+  l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/oscillating-plate/in.plate").c_str());
+  std::ifstream in("plate.dat");
+  std::string line;
+  std::vector<double> t, d, e;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ss(line);
+    double step, tt, dd, ek, ei, et;
+    ss >> step >> tt >> dd >> ek >> ei >> et;
+    t.push_back(tt);
+    d.push_back(dd);
+    e.push_back(et);
+  }
+  ASSERT_GT(t.size(), 100u);
+  std::vector<double> z;
+  for (size_t k = 1; k < d.size(); k++)
+    if (d[k - 1] * d[k] < 0.0) z.push_back(t[k - 1] + (t[k] - t[k - 1]) * d[k - 1] / (d[k - 1] - d[k]));
+  ASSERT_GE(z.size(), 5u);    // 3 periods: crossings at T/2, T, ..., 5T/2
+  const double tfirst = 2.0 * (z[1] - z[0]);
+  const double tbeam = l.equal("v_Tbeam");
+  double drift = 0.0;
+  for (double ee : e) drift = std::max(drift, fabs(ee - e[0]) / e[0]);
+  std::printf("[ plate    ] period %.5f s, beam theory %.5f s (%+.2f %%), energy drift %.4f %%\n", tfirst,
+              tbeam, 100 * (tfirst - tbeam) / tbeam, 100 * drift);
+  EXPECT_NEAR(tfirst, tbeam, 0.05 * tbeam);
+  EXPECT_LT(drift, 0.02);
+}
+
+// roles: rigid tool particles move with their own velocity and exert/feel no mechanics;
+// clamped particles keep their position while their neighbours move
+TEST(Roles, ToolAndClamped)
+{
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "lattice sq 1e-3", "region box block -10 20 -10 20 -0.5 0.5", "create_box 2 box",
+          "region work block -0.01 8.01 -0.01 4.01 -0.5 0.5", "create_atoms 1 region work",
+          "region tool block -0.01 8.01 4.99 6.01 -0.5 0.5", "create_atoms 2 region tool",
+          "mass * 0.0078", "group tool type 2", "region cl block INF 0.5 INF INF INF INF",
+          "group clamp region cl", "group work type 1",
+          "pair_style sph/jc-thermal", "pair_coeff * * rho0 7800 E 200e9 nu 0.3 hdx 1.3",
+          "fix sph all sph/jc-thermal tool tool clamp clamp", "timestep 2e-8",
+          "velocity tool set 0.0 -20.0 0.0 units box", "velocity work set 5.0 0.0 0.0 units box",
+          "run 0"});
+  auto *fix = static_cast<FixSPHJCThermal *>(l.lmp->modify->fix[l.lmp->modify->find_fix("sph")]);
+  auto *atom = l.lmp->atom;
+  // at rest relative to each other, the workpiece sees no force although the tool is within 2h
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (atom->type[i] != 1) continue;
+    EXPECT_EQ(atom->f[i][1], 0.0);
+    EXPECT_EQ(fix->state[i][F::ROLE], (atom->x[i][0] < 0.5e-3) ? F::CLAMPED : F::WORKPIECE);
+  }
+  std::vector<double> y0(atom->nlocal), x0(atom->nlocal);
+  for (int i = 0; i < atom->nlocal; i++) {    // serial, 100 steps: no atom sorting
+    y0[i] = atom->x[i][1];
+    x0[i] = atom->x[i][0];
+  }
+  l.cmd("run 100");
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int role = static_cast<int>(fix->state[i][F::ROLE]);
+    if (role == F::TOOL) {
+      EXPECT_NEAR(atom->v[i][1], -20.0, 1e-12);
+      EXPECT_NEAR(atom->x[i][1] - y0[i], -20.0 * 100 * 2e-8, 1e-12);
+      EXPECT_EQ(fix->state[i][F::VM], 0.0);
+    } else if (role == F::CLAMPED) {
+      EXPECT_EQ(atom->x[i][0], x0[i]);
+      EXPECT_EQ(atom->v[i][0], 0.0);
+    }
+  }
+  // the workpiece next to the clamp is strained (stress), the clamp held it
+  EXPECT_GT(l.equal("f_sph[3]"), 0.0);
+  double vmmax = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->type[i] == 1) vmmax = std::max(vmmax, fix->state[i][F::VM]);
+  EXPECT_GT(vmmax, 1.0e6);
+}
