@@ -21,16 +21,19 @@
 #include "error.h"
 #include "force.h"
 #include "group.h"
+#include "input.h"
 #include "memory.h"
 #include "modify.h"
 #include "pair_sph_jc_thermal.h"
 #include "update.h"
+#include "variable.h"
 
 #include "sphcut_compat.h"
 #include "sphcut_material.h"
 
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -66,8 +69,12 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       if (kw == "tool") toolbit = group->bitmask[ig];
       else clampbit = group->bitmask[ig];
     } else if (kw == "temp") {
-      temp0 = utils::numeric(FLERR, val, false, lmp);
-      if (temp0 < 0.0) error->all(FLERR, "Fix sph/jc-thermal: temp must be >= 0, got {}", temp0);
+      if (utils::strmatch(val, "^v_")) {
+        temp_var = val + 2;
+      } else {
+        temp0 = utils::numeric(FLERR, val, false, lmp);
+        if (temp0 < 0.0) error->all(FLERR, "Fix sph/jc-thermal: temp must be >= 0, got {}", temp0);
+      }
     } else if (kw == "cfl") {
       cfl = utils::numeric(FLERR, val, false, lmp);
       if (cfl <= 0.0 || cfl > 1.0) error->all(FLERR, "Fix sph/jc-thermal: cfl must be in (0,1], got {}", cfl);
@@ -86,6 +93,8 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
     }
     iarg += 2;
   }
+  if (!temp_var.empty() && temp0 >= 0.0)
+    error->all(FLERR, "Fix sph/jc-thermal: temp given twice (a value and a variable)");
   if (toolbit && (toolbit == clampbit))
     error->all(FLERR, "Fix sph/jc-thermal: tool and clamp must be different groups");
   if (cfl == 0.0 && (dtmax > 0.0 || dtmin > 0.0))
@@ -199,6 +208,20 @@ void FixSPHJCThermal::setup_pre_force(int vflag)
   const Material *mat = pair->materials();
   int nfresh = 0;
 
+  // initial temperature from an atom-style variable, for atoms that have none yet
+  if (!temp_var.empty()) {
+    const int ivar = input->variable->find(temp_var.c_str());
+    if (ivar < 0) error->all(FLERR, "Fix sph/jc-thermal: temp variable {} does not exist", temp_var);
+    if (!input->variable->atomstyle(ivar))
+      error->all(FLERR, "Fix sph/jc-thermal: temp variable {} is not atom-style", temp_var);
+    std::vector<double> t0(nlocal);
+    input->variable->compute_atom(ivar, igroup, t0.data(), 1, 0);
+    for (int i = 0; i < nlocal; i++) {
+      if (!(mask[i] & groupbit) || state[i][TEMP] >= 0.0) continue;
+      if (t0[i] < 0.0) error->one(FLERR, "Fix sph/jc-thermal: temp variable {} is negative: {}", temp_var, t0[i]);
+      state[i][TEMP] = t0[i];
+    }
+  }
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     double *s = state[i];
@@ -503,7 +526,7 @@ void FixSPHJCThermal::write_restart(FILE *fp)
   if (comm->me == 0) {
     // the elapsed time too: LAMMPS 29Sep2021 restarts it at 0, which an adaptive dt cannot undo
     const double now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
-    double list[4] = {(double) NCOL, (double) force_state_valid, total, now};
+    double list[4] = {(double) (NCOL + 1000 * LAYOUT), (double) force_state_valid, total, now};
     int size = 4 * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
     fwrite(list, sizeof(double), 4, fp);
@@ -513,9 +536,9 @@ void FixSPHJCThermal::write_restart(FILE *fp)
 void FixSPHJCThermal::restart(char *buf)
 {
   const double *list = (const double *) buf;
-  if (static_cast<int>(list[0]) != NCOL)
-    error->all(FLERR, "Fix sph/jc-thermal: restart file has {} state columns, this version {}",
-               static_cast<int>(list[0]), (int) NCOL);
+  if (static_cast<int>(list[0]) != NCOL + 1000 * LAYOUT)
+    error->all(FLERR, "Fix sph/jc-thermal: restart file has state layout {}, this version {} "
+               "(written by another sphcut version)", static_cast<int>(list[0]), NCOL + 1000 * LAYOUT);
   force_state_valid = static_cast<int>(list[1]);
   plastic_work = comm->me == 0 ? list[2] : 0.0;
   if (update->atime == 0.0 && update->atimestep == 0) {

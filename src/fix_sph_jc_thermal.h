@@ -16,6 +16,8 @@ FixStyle(sph/jc-thermal,FixSPHJCThermal);
 
 #include "fix.h"
 
+#include <string>
+
 namespace LAMMPS_NS {
 
 class PairSPHJCThermal;
@@ -25,14 +27,16 @@ class FixSPHJCThermal : public Fix {
   // columns of the per-atom array (dump custom f_ID[k] uses k = column + 1)
   enum Column {
     RHO = 0, PRESS, SXX, SYY, SZZ, SXY, SXZ, SYZ, VM, EPS, EPSDOT, TEMP, ROLE, UINT,
+    DTEMP,                                  // temperature rate of this step (all heat sources)
     NOUT,                                   // columns above are the documented output
     RHO_F = NOUT, SF, TEMP_F = SF + 6, VEST, // state the forces are computed from (predictor)
-    DRHO = VEST + 3, DS, DTEMP = DS + 6, DU, // rates of this step (pair and heat sources add)
-    DRHO_O, DS_O, DTEMP_O = DS_O + 6, DU_O,  // rates of the previous step
+    DRHO = VEST + 3, DS, DU = DS + 6,       // rates of this step (pair adds)
+    DRHO_O, DS_O, DTEMP_O = DS_O + 6, DU_O, // rates of the previous step
     XSPH, VEND = XSPH + 3,                  // XSPH velocity correction, v at end of last step
     NCOL = VEND + 3
   };
   enum Role { WORKPIECE = 0, TOOL = 1, CLAMPED = 2 };
+  static constexpr int LAYOUT = 2;    // bump when the column layout changes (restart check)
 
   FixSPHJCThermal(class LAMMPS *, int, char **);
   ~FixSPHJCThermal() override;
@@ -75,6 +79,7 @@ class FixSPHJCThermal : public Fix {
   PairSPHJCThermal *pair;
   double dtv, dtf;
   double temp0;               // initial temperature (< 0: take Tref of the material)
+  std::string temp_var;       // or an atom-style variable giving it
   int force_state_valid;      // force-state columns hold the last predictor (continued run)
   double cfl;                 // > 0: adaptive time step with this Courant number
   double dtmax, dtmin;

@@ -41,6 +41,7 @@ class PairSPHJCThermal : public Pair {
   double smoothing_length(int itype) const { return hlen[itype][itype]; }
   double smoothing_length(int itype, int jtype) const { return hlen[itype][jtype]; }
   int kernel() const { return kernel_kind; }
+  double spacing(int itype) const { return dp[itype]; }    // (m/rho0)^(1/d), set in init_style
   FixSPHJCThermal *state_fix() const { return fix; }
 
  protected:

@@ -9,6 +9,10 @@
 #define SPHCUT_COMPAT_H
 
 #include "comm.h"
+#include "neighbor.h"
+#if SPHCUT_LAMMPS_VERSION < 20220803
+#include "neigh_request.h"
+#endif
 
 #ifndef SPHCUT_LAMMPS_VERSION
 #define SPHCUT_LAMMPS_VERSION 20210929
@@ -27,6 +31,27 @@ inline void forward_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *obj) { comm->fo
 inline void reverse_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Pair *obj) { comm->reverse_comm_pair(obj); }
 inline void forward_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Compute *obj) { comm->forward_comm_compute(obj); }
 #endif
+
+// request a full neighbour list for a fix or compute (perpetual, or occasional = built on demand)
+template <class T> inline void request_full_list(LAMMPS_NS::Neighbor *neighbor, T *obj, int instance,
+                                                 bool is_fix, bool occasional)
+{
+#if SPHCUT_LAMMPS_VERSION >= 20220803
+  (void) instance;
+  (void) is_fix;
+  neighbor->add_request(obj, LAMMPS_NS::NeighConst::REQ_FULL |
+                        (occasional ? LAMMPS_NS::NeighConst::REQ_OCCASIONAL : 0));
+#else
+  const int irequest = neighbor->request(obj, instance);
+  LAMMPS_NS::NeighRequest *rq = neighbor->requests[irequest];
+  rq->pair = 0;
+  rq->fix = is_fix ? 1 : 0;
+  rq->compute = is_fix ? 0 : 1;
+  rq->half = 0;
+  rq->full = 1;
+  rq->occasional = occasional ? 1 : 0;
+#endif
+}
 
 }    // namespace sphcut
 

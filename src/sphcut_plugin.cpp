@@ -5,6 +5,9 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "compute_surface_lambda.h"
+#include "fix_contact_tri_penalty.h"
+#include "fix_heat_fmfs.h"
 #include "fix_sph_jc_thermal.h"
 #include "pair_sph_jc_thermal.h"
 
@@ -48,6 +51,15 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   add(reg, lmp, handle, "fix", "sph/jc-thermal",
       "sphcut " SPHCUT_VERSION ": SPH solid state and time integration",
       (void *) &fix_creator<FixSPHJCThermal>);
+  add(reg, lmp, handle, "fix", "heat/fmfs",
+      "sphcut " SPHCUT_VERSION ": heat conduction, FMFS/Brookshaw Laplacian, surface losses, Dirichlet",
+      (void *) &fix_creator<FixHeatFMFS>);
+  add(reg, lmp, handle, "fix", "contact/tri-penalty",
+      "sphcut " SPHCUT_VERSION ": penalty contact with a rigid triangulated tool, friction, friction heat",
+      (void *) &fix_creator<FixContactTriPenalty>);
+  add(reg, lmp, handle, "compute", "surface/lambda",
+      "sphcut " SPHCUT_VERSION ": free-surface flag from the renormalisation matrix eigenvalue",
+      (void *) &compute_creator<ComputeSurfaceLambda>);
 #ifdef SPHCUT_HAVE_KOKKOS
   sphcut_register_kokkos(reg, lmp, handle);
 #endif

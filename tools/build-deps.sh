@@ -239,6 +239,7 @@ TK1=$(date +%s)
 
 # ---------------------------------------------------------------- LAMMPS
 log "building LAMMPS (shared, MPI, OpenMP, PLUGIN KOKKOS OPENMP ${CMP_PKGS[*]})"
+mkdir -p "$LSRC/potentials"    # its install step copies this folder (absent in packed sources)
 LAMMPS_CXX="${CXX:-g++}"
 [ $CUDA = 1 ] && LAMMPS_CXX="$KSRC/bin/nvcc_wrapper"
 cmake -S "$LSRC/cmake" -B "$PREFIX/build/lammps" -G "$GEN" \

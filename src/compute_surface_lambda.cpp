@@ -1,0 +1,174 @@
+/* ----------------------------------------------------------------------
+   sphcut - compute surface/lambda
+
+   B_i = sum_j V_j (x_j - x_i) (x) grad_i W_ij (the inverse of the
+   renormalisation matrix A of seed 003 eq. 14); lambda_i = minimum
+   eigenvalue of its symmetric part: ~1 inside, -> 0 at the surface.
+   A particle is a surface particle when lambda < threshold (0.75).
+   The outward normal is -A^T sum_j V_j grad_i W_ij, normalised.
+------------------------------------------------------------------------- */
+
+#include "compute_surface_lambda.h"
+
+#include "atom.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_jc_thermal.h"
+#include "force.h"
+#include "group.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_kernels.h"
+#include "sphcut_thermal.h"
+
+using namespace LAMMPS_NS;
+
+/* ----------------------------------------------------------------------
+   compute ID group surface/lambda [threshold L] [tool yes|no] [every N]
+------------------------------------------------------------------------- */
+
+ComputeSurfaceLambda::ComputeSurfaceLambda(LAMMPS *lmp, int narg, char **arg) :
+    Compute(lmp, narg, arg), threshold(0.75), every(1), tool_hides(1), last_step(-1), last_neigh(-1),
+    nmax(0), out(nullptr), list(nullptr), fix(nullptr), pair(nullptr)
+{
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string kw = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Compute surface/lambda: keyword {} needs a value", kw);
+    const std::string val = arg[iarg + 1];
+    if (kw == "threshold") {
+      threshold = utils::numeric(FLERR, val.c_str(), false, lmp);
+      if (threshold <= 0.0 || threshold >= 1.0)
+        error->all(FLERR, "Compute surface/lambda: threshold must be in (0,1), got {}", threshold);
+    } else if (kw == "tool") {
+      if (val == "yes") tool_hides = 1;
+      else if (val == "no") tool_hides = 0;
+      else error->all(FLERR, "Compute surface/lambda: tool must be yes or no, got {}", val);
+    } else if (kw == "every") {
+      every = utils::inumeric(FLERR, val.c_str(), false, lmp);
+      if (every < 1) error->all(FLERR, "Compute surface/lambda: every must be >= 1, got {}", every);
+    } else {
+      error->all(FLERR, "Compute surface/lambda: unknown keyword {}", kw);
+    }
+    iarg += 2;
+  }
+  peratom_flag = 1;
+  size_peratom_cols = NCOLS;
+}
+
+ComputeSurfaceLambda::~ComputeSurfaceLambda()
+{
+  memory->destroy(out);
+}
+
+void ComputeSurfaceLambda::init()
+{
+  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
+  if (!pair) error->all(FLERR, "Compute surface/lambda requires pair_style sph/jc-thermal");
+  fix = pair->state_fix();
+  if (!fix) {
+    for (int i = 0; i < modify->nfix; i++)
+      if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
+        fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
+  }
+  if (!fix) error->all(FLERR, "Compute surface/lambda requires fix sph/jc-thermal");
+  int bad = 0, gbad = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((atom->mask[i] & groupbit) && !(atom->mask[i] & fix->groupbit)) bad = 1;
+  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, world);
+  if (gbad) error->all(FLERR, "Compute surface/lambda: group {} has atoms outside the group of fix sph/jc-thermal", group->names[igroup]);
+  // perpetual full list: the flags are needed every step by fix heat/fmfs
+  sphcut::request_full_list(neighbor, this, instance_me, false, false);
+}
+
+void ComputeSurfaceLambda::init_list(int, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   values are kept between invocations only while the atom order is the
+   same (no reneighboring since), fewer than `every` steps have passed, and
+   outside the setup of a run
+------------------------------------------------------------------------- */
+
+void ComputeSurfaceLambda::compute_peratom()
+{
+  invoked_peratom = update->ntimestep;
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(out);
+    memory->create(out, nmax, NCOLS, "surface/lambda:out");
+    array_atom = out;
+    last_step = -1;
+  }
+  // the setup of a run always recomputes: it rebuilds the lists (and may re-sort the atoms) at
+  // the time step the previous run ended on, so lastcall alone cannot tell
+  if (last_step >= 0 && !update->setupflag && neighbor->lastcall <= last_neigh &&
+      update->ntimestep - last_step < every)
+    return;
+  last_step = update->ntimestep;
+  last_neigh = neighbor->lastcall;
+  if (domain->dimension == 2) compute_dim<2>();
+  else compute_dim<3>();
+}
+
+template <int DIM> void ComputeSurfaceLambda::compute_dim()
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  double **st = fix->state;
+  const int kernel = pair->kernel();
+  using F = FixSPHJCThermal;
+
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < NCOLS; k++) out[i][k] = 0.0;
+
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int itool = fix->role_of(mask[i]) == F::TOOL;
+    double B[DIM][DIM] = {}, gs[3] = {0.0, 0.0, 0.0};
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!(mask[j] & groupbit)) continue;
+      if (!tool_hides && (fix->role_of(mask[j]) == F::TOOL) != itool) continue;
+      double r[3], r2 = 0.0;
+      for (int a = 0; a < 3; a++) {
+        r[a] = x[j][a] - x[i][a];
+        r2 += r[a] * r[a];
+      }
+      const double h = pair->smoothing_length(type[i], type[j]);
+      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+      double w, wfac;
+      sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
+      const double vj = (rmass ? rmass[j] : mass[type[j]]) / st[j][F::RHO_F];
+      for (int a = 0; a < DIM; a++) {
+        const double g = -wfac * r[a] * vj;    // grad_i W V_j, grad_i W = wfac (x_i - x_j)
+        gs[a] += g;
+        for (int b = 0; b < DIM; b++) B[b][a] += r[b] * g;
+      }
+    }
+    const double lam = sphcut::surface_lambda<DIM>(B);
+    out[i][LAMBDA] = lam;
+    out[i][FLAG] = lam < threshold ? 1.0 : 0.0;
+    double n[3] = {0.0, 0.0, 0.0};
+    if (lam < threshold) sphcut::surface_normal<DIM>(B, gs, n);
+    for (int a = 0; a < DIM; a++) out[i][NX + a] = n[a];
+  }
+}
+
+double ComputeSurfaceLambda::memory_usage()
+{
+  return (double) nmax * NCOLS * sizeof(double);
+}

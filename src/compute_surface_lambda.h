@@ -1,0 +1,52 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - compute surface/lambda: free-surface flag of SPH particles from
+   the minimum eigenvalue lambda of the renormalisation matrix (Marrone et
+   al. 2010; seed 003 sec. 4.2 and eq. 14)
+------------------------------------------------------------------------- */
+
+#ifdef COMPUTE_CLASS
+// clang-format off
+ComputeStyle(surface/lambda,ComputeSurfaceLambda);
+// clang-format on
+#else
+
+#ifndef LMP_COMPUTE_SURFACE_LAMBDA_H
+#define LMP_COMPUTE_SURFACE_LAMBDA_H
+
+#include "compute.h"
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermal;
+class PairSPHJCThermal;
+
+class ComputeSurfaceLambda : public Compute {
+ public:
+  enum { LAMBDA = 0, FLAG, NX, NY, NZ, NCOLS };
+  ComputeSurfaceLambda(class LAMMPS *, int, char **);
+  ~ComputeSurfaceLambda() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void compute_peratom() override;
+  double memory_usage() override;
+
+  // for fix heat/fmfs: 1 if local atom i is a surface particle (valid after compute_peratom)
+  int is_surface(int i) const { return out[i][FLAG] > 0.5; }
+  double threshold;
+
+ private:
+  int every;                  // recompute every this many steps (and after reneighboring)
+  int tool_hides;             // 1: tool particles count as neighbours of the workpiece
+  bigint last_step, last_neigh;
+  int nmax;
+  double **out;
+  class NeighList *list;
+  FixSPHJCThermal *fix;
+  PairSPHJCThermal *pair;
+  template <int DIM> void compute_dim();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

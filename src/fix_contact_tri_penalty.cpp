@@ -1,0 +1,717 @@
+/* ----------------------------------------------------------------------
+   sphcut - fix contact/tri-penalty
+
+   For each particle of the group (not rigid tool particles): the closest
+   element of the tool (bin query, seed 000 sec. 3 with one sphere per
+   triangle), the signed distance d and outward normal n (faces, edges
+   and vertices: sphcut_contact.h), the penetration delta = 0.5 h/SFAC - d
+   (eq. 9), the penalty force (k delta + D delta_dot) n (eqs. 10-12) and
+   Coulomb friction (eqs. 13-15) with mu(T).  The tool only translates;
+   its mesh stays in its own frame and particles are queried at x - disp.
+   Friction heat eta |F_t| |v_t| goes partly to the particle, partly to
+   tool SPH particles near it (seed 000's fourth list) or a lumped tool.
+------------------------------------------------------------------------- */
+
+#include "fix_contact_tri_penalty.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_heat_fmfs.h"
+#include "fix_sph_jc_thermal.h"
+#include "force.h"
+#include "group.h"
+#include "input.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+#include "variable.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_contact.h"
+#include "sphcut_kernels.h"
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using sphcut::Material;
+
+static constexpr int MAXCAND = 64;
+
+/* ---------------------------------------------------------------------- */
+
+FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), nvert(3), etool(0.0), pfac(1.0), dfac(0.1), sfac(1.2), vreg(0.0), vreg_set(0),
+    mustyle(MU_CONST), mu0(0.0), mu_ivar(-1), mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
+    toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
+    work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
+    ncontact(0), tool_work(0.0), power_prev(0.0), fcontact(nullptr), qbuf(nullptr), nmax_buf(0),
+    list(nullptr), fix(nullptr), pair(nullptr)
+{
+  for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
+  std::string geom;
+  std::vector<std::string> gargs;
+  sphcut::StlTransform tf;
+  int has_transform = 0;
+  int split_given = 0;
+
+  int iarg = 3;
+  auto need = [&](int n, const std::string &kw) {
+    if (iarg + n >= narg) error->all(FLERR, "Fix contact/tri-penalty: keyword {} needs {} value(s)", kw, n);
+  };
+  auto num = [&](int k) { return utils::numeric(FLERR, arg[iarg + k], false, lmp); };
+  while (iarg < narg) {
+    const std::string kw = arg[iarg];
+    if (kw == "stl") {
+      need(1, kw);
+      geom = "stl";
+      gargs = {arg[iarg + 1]};
+      iarg += 2;
+    } else if (kw == "insert") {
+      // insert rake G clearance A radius R rake_length L flank_length F [width W] [segments N]
+      geom = "insert";
+      gargs.clear();
+      iarg++;
+      while (iarg + 1 < narg) {
+        const std::string k = arg[iarg];
+        if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" &&
+            k != "flank_length" && k != "width" && k != "segments")
+          break;
+        gargs.push_back(k);
+        gargs.push_back(arg[iarg + 1]);
+        iarg += 2;
+      }
+    } else if (kw == "scale") {
+      need(1, kw);
+      tf.scale = num(1);
+      if (tf.scale <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: scale must be > 0, got {}", tf.scale);
+      has_transform = 1;
+      iarg += 2;
+    } else if (kw == "move") {
+      need(3, kw);
+      for (int k = 0; k < 3; k++) tf.shift[k] = num(k + 1);
+      iarg += 4;
+    } else if (kw == "rotate") {
+      need(4, kw);
+      const double axis[3] = {num(2), num(3), num(4)};
+      if (axis[0] == 0.0 && axis[1] == 0.0 && axis[2] == 0.0)
+        error->all(FLERR, "Fix contact/tri-penalty: rotate axis must not be zero");
+      tf.set_axis_angle(axis, num(1));
+      has_transform = 1;
+      iarg += 5;
+    } else if (kw == "velocity") {
+      need(3, kw);
+      for (int k = 0; k < 3; k++) {
+        const std::string v = arg[iarg + 1 + k];
+        if (utils::strmatch(v, "^v_")) vvar[k] = v.substr(2);
+        else vconst[k] = num(k + 1);
+      }
+      iarg += 4;
+    } else if (kw == "E") {
+      need(1, kw);
+      etool = num(1);
+      if (etool <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: E must be > 0, got {}", etool);
+      iarg += 2;
+    } else if (kw == "pfac" || kw == "dfac" || kw == "sfac" || kw == "vreg" || kw == "eta") {
+      need(1, kw);
+      const double v = num(1);
+      if (kw == "pfac") pfac = v;
+      else if (kw == "dfac") dfac = v;
+      else if (kw == "sfac") sfac = v;
+      else if (kw == "vreg") {
+        vreg = v;
+        vreg_set = 1;
+      } else eta = v;
+      if ((kw == "pfac" || kw == "sfac") && v <= 0.0)
+        error->all(FLERR, "Fix contact/tri-penalty: {} must be > 0, got {}", kw, v);
+      if ((kw == "dfac" || kw == "vreg") && v < 0.0)
+        error->all(FLERR, "Fix contact/tri-penalty: {} must be >= 0, got {}", kw, v);
+      if (kw == "eta" && (v < 0.0 || v > 1.0))
+        error->all(FLERR, "Fix contact/tri-penalty: eta must be in [0,1], got {}", v);
+      iarg += 2;
+    } else if (kw == "mu") {
+      need(1, kw);
+      const std::string v = arg[iarg + 1];
+      if (v == "table") {
+        need(2, kw);
+        mustyle = MU_TABLE;
+        std::ifstream in(arg[iarg + 2]);
+        if (!in) error->all(FLERR, "Fix contact/tri-penalty: cannot open mu table {}", arg[iarg + 2]);
+        std::string line;
+        while (std::getline(in, line)) {
+          const auto p = line.find('#');
+          if (p != std::string::npos) line.erase(p);
+          std::istringstream ss(line);
+          double t, m;
+          if (!(ss >> t)) continue;
+          if (!(ss >> m)) error->all(FLERR, "Fix contact/tri-penalty: mu table {}: line '{}' needs T mu", arg[iarg + 2], line);
+          if (!mu_t.empty() && t <= mu_t.back())
+            error->all(FLERR, "Fix contact/tri-penalty: mu table {}: temperatures must increase", arg[iarg + 2]);
+          if (m < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu table {}: negative mu {}", arg[iarg + 2], m);
+          mu_t.push_back(t);
+          mu_v.push_back(m);
+        }
+        if (mu_t.empty()) error->all(FLERR, "Fix contact/tri-penalty: mu table {} is empty", arg[iarg + 2]);
+        iarg += 3;
+      } else if (utils::strmatch(v, "^v_")) {
+        // mu v_name tvar NAME: equal-style variable of the internal variable NAME (the temperature)
+        if (iarg + 3 >= narg || std::string(arg[iarg + 2]) != "tvar")
+          error->all(FLERR, "Fix contact/tri-penalty: mu v_{} needs 'tvar NAME' (an internal variable)", v.substr(2));
+        mustyle = MU_VARIABLE;
+        mu_var = v.substr(2);
+        mu_tvar = arg[iarg + 3];
+        iarg += 4;
+      } else {
+        mustyle = MU_CONST;
+        mu0 = num(1);
+        if (mu0 < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu must be >= 0, got {}", mu0);
+        iarg += 2;
+      }
+    } else if (kw == "heat") {
+      need(1, kw);
+      id_heat = arg[iarg + 1];
+      iarg += 2;
+    } else if (kw == "split") {
+      need(1, kw);
+      split_given = 1;
+      if (std::string(arg[iarg + 1]) == "auto") split_auto = 1;
+      else {
+        split = num(1);
+        if (split < 0.0 || split > 1.0) error->all(FLERR, "Fix contact/tri-penalty: split must be in [0,1] or auto, got {}", split);
+      }
+      iarg += 2;
+    } else if (kw == "tool_particles") {
+      need(1, kw);
+      const int ig = group->find(arg[iarg + 1]);
+      if (ig < 0) error->all(FLERR, "Fix contact/tri-penalty: tool_particles group {} does not exist", arg[iarg + 1]);
+      tool_group = arg[iarg + 1];
+      toolbit = group->bitmask[ig];
+      iarg += 2;
+    } else if (kw == "tool_cp") {
+      need(2, kw);
+      tool_cp = num(1);
+      tool_temp = num(2);
+      if (tool_cp <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: tool_cp must be > 0, got {}", tool_cp);
+      iarg += 3;
+    } else if (kw == "write") {
+      need(2, kw);
+      write_every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      write_file = arg[iarg + 2];
+      if (write_every < 1) error->all(FLERR, "Fix contact/tri-penalty: write interval must be >= 1, got {}", write_every);
+      if (!utils::strmatch(write_file, "\\.vtk$") && !utils::strmatch(write_file, "\\.stl$"))
+        error->all(FLERR, "Fix contact/tri-penalty: write file {} must end in .vtk or .stl", write_file);
+      iarg += 3;
+    } else {
+      error->all(FLERR, "Fix contact/tri-penalty: unknown keyword {}", kw);
+    }
+  }
+  if (geom.empty()) error->all(FLERR, "Fix contact/tri-penalty: no tool geometry (keyword stl or insert)");
+  if (geom == "insert" && has_transform)
+    error->all(FLERR, "Fix contact/tri-penalty: scale and rotate apply to stl tools only (use move)");
+  if (!split_given && toolbit) split_auto = 1;
+  if (split_auto && !toolbit)
+    error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool_particles (their conductivity)");
+
+  nvert = domain->dimension == 2 ? 2 : 3;
+  // rank 0 reads or builds the geometry, all ranks get a copy
+  std::string msg;
+  if (comm->me == 0) {
+    try {
+      if (geom == "stl") {
+        std::vector<double> tri = sphcut::read_stl(gargs[0], tf);
+        if (nvert == 3) elem = tri;
+        else {
+          // 2D: the section of the solid with the plane z = 0, as segments (outward normal kept)
+          for (size_t t = 0; t + 9 <= tri.size(); t += 9) {
+            const double *v = &tri[t];
+            double pts[2][3];
+            int np = 0;
+            for (int e = 0; e < 3 && np < 2; e++) {
+              const double *a = v + 3 * e, *b = v + 3 * ((e + 1) % 3);
+              if ((a[2] < 0.0) != (b[2] < 0.0)) {
+                const double s = a[2] / (a[2] - b[2]);
+                for (int k = 0; k < 3; k++) pts[np][k] = a[k] + s * (b[k] - a[k]);
+                pts[np][2] = 0.0;
+                np++;
+              }
+            }
+            if (np < 2) continue;
+            double nt[3];
+            sphcut::triangle_normal(v, v + 3, v + 6, nt);
+            // segment a->b has outward normal (dy, -dx): order the points accordingly
+            const double dxs = pts[1][0] - pts[0][0], dys = pts[1][1] - pts[0][1];
+            const int flip = dys * nt[0] - dxs * nt[1] < 0.0;
+            const double *p0 = flip ? pts[1] : pts[0], *p1 = flip ? pts[0] : pts[1];
+            for (int k = 0; k < 3; k++) elem.push_back(p0[k]);
+            for (int k = 0; k < 3; k++) elem.push_back(p1[k]);
+          }
+          if (elem.empty()) throw std::runtime_error("STL file '" + gargs[0] + "': no facet crosses the plane z = 0 (2D section is empty)");
+        }
+      } else {
+        sphcut::InsertParams ip;
+        for (size_t k = 0; k + 1 < gargs.size(); k += 2) {
+          const double v = std::stod(gargs[k + 1]);
+          if (gargs[k] == "rake") ip.rake_angle = v;
+          else if (gargs[k] == "clearance") ip.clearance_angle = v;
+          else if (gargs[k] == "radius") ip.edge_radius = v;
+          else if (gargs[k] == "rake_length") ip.rake_length = v;
+          else if (gargs[k] == "flank_length") ip.flank_length = v;
+          else if (gargs[k] == "width") ip.width = v;
+          else if (gargs[k] == "segments") ip.arc_segments = (int) v;
+        }
+        elem = sphcut::make_cutting_insert(ip, domain->dimension);
+        for (size_t k = 0; k < elem.size(); k += 3)
+          for (int c = 0; c < 3; c++) elem[k + c] += (c < 2 || nvert == 3) ? tf.shift[c] : 0.0;
+      }
+    } catch (std::exception &e) {
+      msg = e.what();
+    }
+  }
+  int len = (int) msg.size();
+  MPI_Bcast(&len, 1, MPI_INT, 0, world);
+  if (len) {
+    msg.resize(len);
+    MPI_Bcast(&msg[0], len, MPI_CHAR, 0, world);
+    error->all(FLERR, "Fix contact/tri-penalty: {}", msg);
+  }
+  long n = (long) elem.size();
+  MPI_Bcast(&n, 1, MPI_LONG, 0, world);
+  elem.resize(n);
+  MPI_Bcast(elem.data(), (int) n, MPI_DOUBLE, 0, world);
+
+  vector_flag = 1;
+  size_vector = 14;
+  global_freq = 1;
+  extvector = 0;
+  peratom_flag = 1;
+  size_peratom_cols = 3;
+  peratom_freq = 1;
+  restart_global = 1;
+  comm_reverse = 1;
+  nevery = 1;
+  dynamic_group_allow = 0;
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  for (int i = 0; i < atom->nlocal; i++) fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+}
+
+FixContactTriPenalty::~FixContactTriPenalty()
+{
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(fcontact);
+  memory->destroy(qbuf);
+}
+
+int FixContactTriPenalty::setmask()
+{
+  return INITIAL_INTEGRATE | POST_FORCE | END_OF_STEP;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixContactTriPenalty::contact_radius_max() const
+{
+  double hmax = 0.0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (pair->materials()[t].defined) hmax = std::max(hmax, pair->smoothing_length(t));
+  return hmax;
+}
+
+void FixContactTriPenalty::init()
+{
+  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
+  if (!pair) error->all(FLERR, "Fix contact/tri-penalty requires pair_style sph/jc-thermal");
+  fix = nullptr;
+  for (int i = 0; i < modify->nfix; i++)
+    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
+      fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
+  if (!fix) error->all(FLERR, "Fix contact/tri-penalty requires fix sph/jc-thermal");
+  int bad = 0, gbad = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((atom->mask[i] & groupbit) && !(atom->mask[i] & fix->groupbit)) bad = 1;
+  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, world);
+  if (gbad) error->all(FLERR, "Fix contact/tri-penalty: group {} has atoms outside the group of fix sph/jc-thermal", group->names[igroup]);
+  heat = nullptr;
+  if (!id_heat.empty()) {
+    const int ih = modify->find_fix(id_heat);
+    if (ih < 0) error->all(FLERR, "Fix contact/tri-penalty: heat fix {} does not exist", id_heat);
+    if (!utils::strmatch(modify->fix[ih]->style, "^heat/fmfs"))
+      error->all(FLERR, "Fix contact/tri-penalty: fix {} is not of style heat/fmfs", id_heat);
+    heat = dynamic_cast<FixHeatFMFS *>(modify->fix[ih]);
+  }
+  for (int k = 0; k < 3; k++)
+    if (!vvar[k].empty()) {
+      const int iv = input->variable->find(vvar[k].c_str());
+      if (iv < 0) error->all(FLERR, "Fix contact/tri-penalty: velocity variable {} does not exist", vvar[k]);
+      if (!input->variable->equalstyle(iv))
+        error->all(FLERR, "Fix contact/tri-penalty: velocity variable {} is not equal-style", vvar[k]);
+    }
+  if (mustyle == MU_VARIABLE) {
+    mu_ivar = input->variable->find(mu_var.c_str());
+    mu_itvar = input->variable->find(mu_tvar.c_str());
+    if (mu_ivar < 0 || !input->variable->equalstyle(mu_ivar))
+      error->all(FLERR, "Fix contact/tri-penalty: mu variable {} does not exist or is not equal-style", mu_var);
+    if (mu_itvar < 0 || !input->variable->internalstyle(mu_itvar))
+      error->all(FLERR, "Fix contact/tri-penalty: tvar {} must be an internal-style variable", mu_tvar);
+  }
+  if (split_auto) {
+    // split by thermal effusivity sqrt(k rho cp) of workpiece and tool (seed 000 sec. 4)
+    int ttool = 0, twork = 0;
+    for (int i = 0; i < atom->nlocal; i++) {
+      if (atom->mask[i] & toolbit) ttool = atom->type[i];
+      else if (atom->mask[i] & groupbit) twork = atom->type[i];
+    }
+    int g[2], l[2] = {ttool, twork};
+    MPI_Allreduce(l, g, 2, MPI_INT, MPI_MAX, world);
+    if (!g[0] || !g[1]) error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool and workpiece particles");
+    const Material &mt = pair->materials()[g[0]], &mw = pair->materials()[g[1]];
+    const double et = sqrt(mt.kappa * mt.rho0 * mt.cp), ew = sqrt(mw.kappa * mw.rho0 * mw.cp);
+    if (et + ew <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: split auto needs k and cp of tool and workpiece");
+    split = ew / (ew + et);
+  }
+  // the bins: elements within the largest query radius, in the tool frame
+  const double hmax = contact_radius_max();
+  sphcut::tri_bin_build(elem, nvert, 2.0 * hmax, bins);
+  if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
+  update_tool_velocity();
+  if (!vreg_set) {
+    const double s = sqrt(vtool[0] * vtool[0] + vtool[1] * vtool[1] + vtool[2] * vtool[2]);
+    vreg = 0.01 * s;    // 1 % of the tool speed (0 for a fixed tool: plain Coulomb)
+  }
+}
+
+void FixContactTriPenalty::init_list(int, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   tool velocity for the coming step; rigid tool particles get it too
+------------------------------------------------------------------------- */
+
+void FixContactTriPenalty::update_tool_velocity()
+{
+  for (int k = 0; k < 3; k++) {
+    if (vvar[k].empty()) vtool[k] = vconst[k];
+    else vtool[k] = input->variable->compute_equal(input->variable->find(vvar[k].c_str()));
+  }
+  if (domain->dimension == 2) vtool[2] = 0.0;
+  if (!toolbit) return;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & toolbit)
+      for (int k = 0; k < 3; k++) atom->v[i][k] = vtool[k];
+}
+
+void FixContactTriPenalty::setup(int vflag)
+{
+  update_tool_velocity();
+  post_force(vflag);
+  power_prev = work_rate;
+  if (write_every) write_geometry();
+}
+
+void FixContactTriPenalty::initial_integrate(int)
+{
+  for (int k = 0; k < 3; k++) disp[k] += update->dt * vtool[k];
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixContactTriPenalty::friction_coefficient(double temp)
+{
+  if (mustyle == MU_CONST) return mu0;
+  if (mustyle == MU_TABLE) {
+    if (temp <= mu_t.front()) return mu_v.front();
+    if (temp >= mu_t.back()) return mu_v.back();
+    size_t k = 1;
+    while (mu_t[k] < temp) k++;
+    const double s = (temp - mu_t[k - 1]) / (mu_t[k] - mu_t[k - 1]);
+    return mu_v[k - 1] + s * (mu_v[k] - mu_v[k - 1]);
+  }
+  input->variable->internal_set(mu_itvar, temp);
+  const double m = input->variable->compute_equal(mu_ivar);
+  return m > 0.0 ? m : 0.0;
+}
+
+void FixContactTriPenalty::post_force(int)
+{
+  using F = FixSPHJCThermal;
+  double **x = atom->x;
+  double **f = atom->f;
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  double **st = fix->state;
+  const Material *mat = pair->materials();
+  const sphcut::TriBinView view = bins.view();
+  const int dim = domain->dimension;
+  const double dt = update->dt;
+
+  if (toolbit) {
+    if (nall > nmax_buf) {
+      nmax_buf = atom->nmax;
+      memory->destroy(qbuf);
+      memory->create(qbuf, nmax_buf, "contact:qbuf");
+    }
+    for (int i = 0; i < nall; i++) qbuf[i] = 0.0;
+  }
+  for (int k = 0; k < 3; k++) ftool[k] = 0.0;
+  fric_power = work_rate = maxpen = 0.0;
+  ncontact = 0;
+  int cand[MAXCAND];
+
+  for (int i = 0; i < nlocal; i++) {
+    fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+    if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    const int it = type[i];
+    const double h = pair->smoothing_length(it);
+    const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
+    // search 2h: particles that went deeper than the contact radius still find the surface
+    int nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand, MAXCAND);
+    if (nc == 0) continue;
+    if (nc > MAXCAND) nc = MAXCAND;
+    int best = -1, bestreg = 0;
+    double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
+    for (int c = 0; c < nc; c++) {
+      double q[3];
+      int reg;
+      const double d2 = sphcut::tri_bin_closest(view, cand[c], xt, q, reg);
+      if (d2 < bestd2 * (1.0 - 1.0e-12) || (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == sphcut::FACE && bestreg != sphcut::FACE)) {
+        best = cand[c];
+        bestd2 = d2;
+        bestreg = reg;
+        for (int k = 0; k < 3; k++) bestq[k] = q[k];
+      }
+    }
+    sphcut::ContactIn in;
+    const double *e = &elem[(size_t) best * (nvert == 3 ? 9 : 6)];
+    in.d = nvert == 3 ? sphcut::contact_normal(xt, e, e + 3, e + 6, bestq, bestreg, 0, in.n)
+                      : sphcut::contact_normal_segment(xt, e, e + 3, bestq, bestreg, 0, in.n);
+    if (0.5 * h / sfac - in.d <= 0.0) continue;
+    for (int k = 0; k < 3; k++) {
+      in.x[k] = x[i][k];
+      in.v[k] = st[i][F::VEST + k];
+      in.vtool[k] = vtool[k];
+      in.q[k] = bestq[k] + disp[k];
+    }
+    in.mass = rmass ? rmass[i] : mass[it];
+    in.h = h;
+    in.E_particle = mat[it].E;
+    in.E_tool = etool;
+    in.m_tool = 0.0;
+    in.dp = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
+    in.dim = dim;
+    in.pfac = pfac;
+    in.dfac = dfac;
+    in.sfac = sfac;
+    in.mu = friction_coefficient(st[i][F::TEMP_F]);
+    in.v_reg = vreg;
+    sphcut::ContactOut out;
+    sphcut::penalty_contact(in, out);
+    if (!out.active) continue;
+    // stable friction regularisation: the viscous slope mu F_N / v_reg must be resolved by the
+    // time step (sphcut_contact.h), v_reg >= mu F_N dt / m; a smaller v_reg (default 1 % of the
+    // tool speed, 0 for a fixed tool) makes the friction of a sticking particle flip sign every
+    // step and amplifies round-off (chatter)
+    if (in.mu > 0.0 && out.fn > 0.0) {
+      const double vstab = in.mu * out.fn * dt / in.mass;
+      if (in.v_reg < vstab) {
+        in.v_reg = vstab;
+        sphcut::penalty_contact(in, out);
+      }
+    }
+    ncontact++;
+    maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
+    for (int k = 0; k < dim; k++) {
+      f[i][k] += out.f[k];
+      fcontact[i][k] = out.f[k];
+      ftool[k] -= out.f[k];
+      work_rate += out.f[k] * vtool[k];
+    }
+    fric_power += out.fric_power;
+
+    // friction heat (eq. 6 of seed 003): particle share and tool share
+    const double q = eta * out.fric_power;
+    if (q <= 0.0 || (!heat && !tool_cp)) continue;
+    const double qw = heat ? split * q : 0.0;
+    if (heat && qw > 0.0) heat->add_heat(i, qw);
+    const double acc = update->setupflag ? 0.0 : dt;    // setup: rates only, no time passes
+    q_work += qw * acc;
+    double qt = q - qw;
+    if (qt <= 0.0) continue;
+    if (toolbit && list) {
+      // tool SPH particles near the contact (seed 000: NeibContTherm), kernel weighted
+      double wsum = 0.0;
+      const int *jl = list->firstneigh[i];    // the list holds every local atom, indexed by i
+      const int jn = list->numneigh[i];
+      double wj[256];
+      int js[256], nj = 0;
+      for (int jj = 0; jj < jn && nj < 256; jj++) {
+        const int j = jl[jj] & NEIGHMASK;
+        if (!(mask[j] & toolbit)) continue;
+        double r2 = 0.0;
+        for (int k = 0; k < 3; k++) r2 += (x[i][k] - x[j][k]) * (x[i][k] - x[j][k]);
+        const double hij = pair->smoothing_length(it, type[j]);
+        if (r2 >= 4.0 * hij * hij) continue;
+        const double w = sphcut::kernel_w(pair->kernel(), dim, sqrt(r2), hij);
+        wj[nj] = w;
+        js[nj++] = j;
+        wsum += w;
+      }
+      if (wsum > 0.0) {
+        for (int k = 0; k < nj; k++) qbuf[js[k]] += qt * wj[k] / wsum;
+        q_tool += qt * acc;
+        continue;
+      }
+    }
+    if (tool_cp > 0.0) {
+      tool_temp += qt * acc / tool_cp;
+      q_tool += qt * acc;
+    } else {
+      q_tool_lost += qt * acc;
+    }
+  }
+
+  if (toolbit && heat) {
+    sphcut::reverse_comm(comm, this);
+    for (int i = 0; i < nlocal; i++)
+      if ((mask[i] & toolbit) && qbuf[i] > 0.0) heat->add_heat(i, qbuf[i]);
+  }
+  if (!update->setupflag) tool_work += 0.5 * dt * (power_prev + work_rate);
+  power_prev = work_rate;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixContactTriPenalty::end_of_step()
+{
+  update_tool_velocity();
+  if (write_every && update->ntimestep % write_every == 0) write_geometry();
+}
+
+std::vector<double> FixContactTriPenalty::current_elements() const
+{
+  std::vector<double> out(elem);
+  for (size_t k = 0; k < out.size(); k += 3)
+    for (int c = 0; c < 3; c++) out[k + c] += (nvert == 3 || c < 2) ? disp[c] : 0.0;
+  return out;
+}
+
+void FixContactTriPenalty::write_geometry()
+{
+  if (comm->me != 0) return;
+  std::string file = write_file;
+  const auto star = file.find('*');
+  if (star != std::string::npos) file.replace(star, 1, std::to_string(update->ntimestep));
+  const std::vector<double> cur = current_elements();
+  try {
+    if (utils::strmatch(file, "\\.stl$") && nvert == 3) sphcut::write_stl_ascii(file, cur, id);
+    else sphcut::write_vtk_polydata(file, cur, nvert);
+  } catch (std::exception &e) {
+    error->one(FLERR, "Fix contact/tri-penalty: {}", e.what());
+  }
+}
+
+/* ----------------------------------------------------------------------
+   global vector: 1-3 force on the tool, 4 friction power, 5 contacts,
+   6 friction heat into the workpiece, 7 into the tool, 8-10 tool
+   displacement, 11 lumped tool temperature, 12 max penetration relative
+   to the contact radius, 13 work done by the tool, 14 friction heat not
+   assigned (no heat fix / tool particle)
+------------------------------------------------------------------------- */
+
+double FixContactTriPenalty::compute_vector(int n)
+{
+  double loc = 0.0, res = 0.0;
+  if (n <= 2) loc = ftool[n];
+  else if (n == 3) loc = fric_power;
+  else if (n == 4) loc = ncontact;
+  else if (n == 5) loc = q_work;
+  else if (n == 6) loc = q_tool;
+  else if (n <= 9) return disp[n - 7];
+  else if (n == 10) return tool_temp;
+  else if (n == 11) {
+    MPI_Allreduce(&maxpen, &res, 1, MPI_DOUBLE, MPI_MAX, world);
+    return res;
+  } else if (n == 12) loc = tool_work;
+  else loc = q_tool_lost;
+  MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+  return res;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixContactTriPenalty::grow_arrays(int nmax)
+{
+  memory->grow(fcontact, nmax, 3, "contact:fcontact");
+  array_atom = fcontact;
+}
+
+void FixContactTriPenalty::copy_arrays(int i, int j, int)
+{
+  for (int k = 0; k < 3; k++) fcontact[j][k] = fcontact[i][k];
+}
+
+int FixContactTriPenalty::pack_exchange(int i, double *buf)
+{
+  for (int k = 0; k < 3; k++) buf[k] = fcontact[i][k];
+  return 3;
+}
+
+int FixContactTriPenalty::unpack_exchange(int nlocal, double *buf)
+{
+  for (int k = 0; k < 3; k++) fcontact[nlocal][k] = buf[k];
+  return 3;
+}
+
+int FixContactTriPenalty::pack_reverse_comm(int n, int first, double *buf)
+{
+  for (int i = 0; i < n; i++) buf[i] = qbuf[first + i];
+  return n;
+}
+
+void FixContactTriPenalty::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  for (int i = 0; i < n; i++) qbuf[list[i]] += buf[i];
+}
+
+void FixContactTriPenalty::write_restart(FILE *fp)
+{
+  double loc[4] = {q_work, q_tool, q_tool_lost, tool_work}, tot[4];
+  MPI_Allreduce(loc, tot, 4, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me == 0) {
+    double list[9] = {disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2], tot[3], power_prev};
+    int size = 9 * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), 9, fp);
+  }
+}
+
+void FixContactTriPenalty::restart(char *buf)
+{
+  const double *list = (const double *) buf;
+  for (int k = 0; k < 3; k++) disp[k] = list[k];
+  tool_temp = list[3];
+  const int me0 = comm->me == 0;
+  q_work = me0 ? list[4] : 0.0;
+  q_tool = me0 ? list[5] : 0.0;
+  q_tool_lost = me0 ? list[6] : 0.0;
+  tool_work = me0 ? list[7] : 0.0;
+}
+
+double FixContactTriPenalty::memory_usage()
+{
+  return (double) atom->nmax * 3 * sizeof(double) + elem.size() * sizeof(double);
+}

@@ -1,0 +1,106 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - fix contact/tri-penalty: node-to-surface penalty contact of
+   SPH particles with a rigid triangulated tool (seed 000 sec. 3): STL or
+   generated cutting insert, prescribed translation, Coulomb friction
+   mu(T), friction heat split between workpiece and tool.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(contact/tri-penalty,FixContactTriPenalty);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_CONTACT_TRI_PENALTY_H
+#define LMP_FIX_CONTACT_TRI_PENALTY_H
+
+#include "fix.h"
+#include "sphcut_stl.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermal;
+class PairSPHJCThermal;
+class FixHeatFMFS;
+
+class FixContactTriPenalty : public Fix {
+ public:
+  FixContactTriPenalty(class LAMMPS *, int, char **);
+  ~FixContactTriPenalty() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup(int) override;
+  void initial_integrate(int) override;
+  void post_force(int) override;
+  void end_of_step() override;
+  double compute_vector(int) override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  double memory_usage() override;
+
+  // the current tool geometry in the simulation frame (for output and tests)
+  std::vector<double> current_elements() const;
+  int element_vertices() const { return nvert; }
+
+ private:
+  // geometry, in the tool frame; the tool translates by disp
+  std::vector<double> elem;
+  int nvert;                      // 3 triangles, 2 segments (2D)
+  sphcut::TriBins bins;
+  double disp[3], vtool[3];
+  std::string vvar[3];            // equal-style variables of the tool velocity (empty: constant)
+  double vconst[3];
+  // contact parameters
+  double etool, pfac, dfac, sfac, vreg;
+  int vreg_set;
+  // friction coefficient: constant, table mu(T), or an equal-style variable of an internal T
+  enum { MU_CONST, MU_TABLE, MU_VARIABLE };
+  int mustyle;
+  double mu0;
+  std::vector<double> mu_t, mu_v;
+  std::string mu_var, mu_tvar;
+  int mu_ivar, mu_itvar;
+  // heat
+  double eta, split;
+  int split_auto;
+  std::string id_heat, tool_group;
+  int toolbit;
+  FixHeatFMFS *heat;
+  double tool_cp;                 // lumped tool heat capacity (energy/K, 0: none)
+  double tool_temp;
+  // output
+  int write_every;
+  std::string write_file;
+  // accumulators of this rank
+  double ftool[3], fric_power, work_rate, q_work, q_tool, q_tool_lost, q_work_tool, maxpen;
+  int ncontact;
+  double tool_work;               // work done by the tool on the particles (cumulative)
+  double power_prev;              // tool power of the previous step (trapezoidal work)
+  double **fcontact;              // per-atom contact force
+  double *qbuf;                   // tool heat to reverse communicate
+  int nmax_buf;
+  class NeighList *list;
+  FixSPHJCThermal *fix;
+  PairSPHJCThermal *pair;
+
+  void load_geometry(const std::string &kind, const std::vector<std::string> &args);
+  double friction_coefficient(double temp);
+  void update_tool_velocity();
+  void write_geometry();
+  double contact_radius_max() const;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,416 @@
+/* ----------------------------------------------------------------------
+   sphcut - fix heat/fmfs
+
+   rho cp dT_i/dt = k_i lap T_i + Q_i        (seed 003 eq. 4)
+   lap T_i: FMFS (eqs. 13-15, second-order consistent) for interior
+   particles whose neighbours share their conductivity; Brookshaw with the
+   harmonic mean of the conductivities (eq. 12, seed 000 eq. 6) for surface
+   particles (compute surface/lambda), across material interfaces, where
+   FMFS is singular, or everywhere with `scheme brookshaw`.
+   Q_i: heat sources handed in through add_heat() (friction heat), minus
+   convection h_c (T - T_inf) and radiation e sigma (T^4 - T_inf^4) through
+   the surface area A_i = V_i^((d-1)/d) of surface particles (eq. 8).
+   Plastic heat is added by fix sph/jc-thermal.  Dirichlet groups hold
+   their temperature (eq. 7); the heat that takes is accounted.
+------------------------------------------------------------------------- */
+
+#include "fix_heat_fmfs.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "compute_surface_lambda.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_jc_thermal.h"
+#include "force.h"
+#include "group.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_kernels.h"
+#include "sphcut_thermal.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using sphcut::Material;
+
+static constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
+
+/* ----------------------------------------------------------------------
+   fix ID group heat/fmfs [scheme fmfs|brookshaw] [surface CID]
+       [convection h_c T_inf] [radiation emissivity T_inf] [dirichlet GROUP T] ...
+------------------------------------------------------------------------- */
+
+FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), scheme(FMFS), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
+    emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
+    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), p_dir_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
+{
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string kw = arg[iarg];
+    auto need = [&](int n) {
+      if (iarg + n >= narg) error->all(FLERR, "Fix heat/fmfs: keyword {} needs {} value(s)", kw, n);
+    };
+    if (kw == "scheme") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "fmfs") scheme = FMFS;
+      else if (v == "brookshaw") scheme = BROOKSHAW;
+      else error->all(FLERR, "Fix heat/fmfs: unknown scheme {} (fmfs, brookshaw)", v);
+      iarg += 2;
+    } else if (kw == "surface") {
+      need(1);
+      delete[] id_surface;
+      id_surface = utils::strdup(arg[iarg + 1]);
+      iarg += 2;
+    } else if (kw == "convection") {
+      need(2);
+      hconv = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      tconv = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      if (hconv < 0.0) error->all(FLERR, "Fix heat/fmfs: convection coefficient must be >= 0, got {}", hconv);
+      if (tconv < 0.0) error->all(FLERR, "Fix heat/fmfs: convection T_inf must be >= 0, got {}", tconv);
+      iarg += 3;
+    } else if (kw == "radiation") {
+      need(2);
+      emiss = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      trad = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      if (emiss < 0.0 || emiss > 1.0) error->all(FLERR, "Fix heat/fmfs: emissivity must be in [0,1], got {}", emiss);
+      if (trad < 0.0) error->all(FLERR, "Fix heat/fmfs: radiation T_inf must be >= 0, got {}", trad);
+      iarg += 3;
+    } else if (kw == "dirichlet") {
+      need(2);
+      const int ig = group->find(arg[iarg + 1]);
+      if (ig < 0) error->all(FLERR, "Fix heat/fmfs: dirichlet group {} does not exist", arg[iarg + 1]);
+      const double t = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      if (t < 0.0) error->all(FLERR, "Fix heat/fmfs: dirichlet temperature must be >= 0, got {}", t);
+      dirichlet.push_back({group->bitmask[ig], t});
+      iarg += 3;
+    } else {
+      error->all(FLERR, "Fix heat/fmfs: unknown keyword {}", kw);
+    }
+  }
+  if ((hconv > 0.0 || emiss > 0.0) && !id_surface)
+    error->all(FLERR, "Fix heat/fmfs: convection and radiation need a surface compute (keyword surface)");
+
+  vector_flag = 1;
+  size_vector = 6;
+  global_freq = 1;
+  extvector = -1;
+  extlist = new int[6]{1, 1, 1, 1, 1, 0};
+  restart_global = 1;
+}
+
+FixHeatFMFS::~FixHeatFMFS()
+{
+  delete[] id_surface;
+  delete[] extlist;
+}
+
+int FixHeatFMFS::setmask()
+{
+  return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHeatFMFS::init()
+{
+  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
+  if (!pair) error->all(FLERR, "Fix heat/fmfs requires pair_style sph/jc-thermal");
+  int ifix = -1, ime = -1;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal")) ifix = i;
+    if (modify->fix[i] == this) ime = i;
+  }
+  if (ifix < 0) error->all(FLERR, "Fix heat/fmfs requires fix sph/jc-thermal");
+  // Dirichlet temperatures are imposed after the temperature update of that fix
+  if (ime < ifix) error->all(FLERR, "Fix heat/fmfs must be defined after fix sph/jc-thermal");
+  fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[ifix]);
+  int ninst = 0;
+  for (int i = 0; i < modify->nfix; i++)
+    if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) ninst++;
+  if (ninst > 1) error->all(FLERR, "Fix heat/fmfs: only one instance is allowed, found {}", ninst);
+  // every particle of the group needs the SPH state
+  int bad = 0, gbad = 0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if ((atom->mask[i] & groupbit) && !(atom->mask[i] & fix->groupbit)) bad = 1;
+  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, world);
+  if (gbad) error->all(FLERR, "Fix heat/fmfs: group {} has atoms outside the group of fix sph/jc-thermal", group->names[igroup]);
+
+  surface = nullptr;
+  if (id_surface) {
+    const int ic = modify->find_compute(id_surface);
+    if (ic < 0) error->all(FLERR, "Fix heat/fmfs: surface compute {} does not exist", id_surface);
+    if (!utils::strmatch(modify->compute[ic]->style, "^surface/lambda"))
+      error->all(FLERR, "Fix heat/fmfs: compute {} is not of style surface/lambda", id_surface);
+    surface = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[ic]);
+  }
+  const Material *mat = pair->materials();
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (mat[t].defined && mat[t].kappa > 0.0 && mat[t].cp <= 0.0)
+      error->all(FLERR, "Fix heat/fmfs: atom type {} conducts (k > 0) but has no cp", t);
+  if (emiss > 0.0 && strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "Fix heat/fmfs: radiation uses the SI Stefan-Boltzmann constant; use units si");
+  sphcut::request_full_list(neighbor, this, instance_me, true, false);
+}
+
+void FixHeatFMFS::init_list(int, NeighList *ptr)
+{
+  list = ptr;
+}
+
+int FixHeatFMFS::dirichlet_of(int mask) const
+{
+  if (!(mask & groupbit)) return -1;
+  for (size_t k = 0; k < dirichlet.size(); k++)
+    if (mask & dirichlet[k].groupbit) return (int) k;
+  return -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHeatFMFS::setup(int vflag)
+{
+  // Dirichlet particles start at their temperature
+  using F = FixSPHJCThermal;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int k = dirichlet_of(atom->mask[i]);
+    if (k < 0) continue;
+    double *s = fix->state[i];
+    s[F::TEMP] = s[F::TEMP_F] = dirichlet[k].temp;
+  }
+  sphcut::forward_comm(comm, fix);
+  post_force(vflag);
+  p_dir_prev = dirichlet_rate();
+  for (int i = 0; i < atom->nlocal; i++)
+    if (dirichlet_of(atom->mask[i]) >= 0) fix->state[i][F::DTEMP] = 0.0;
+}
+
+// sum m cp dT/dt of the local Dirichlet particles (before their rate is zeroed): minus the
+// heat per time they pass on to their neighbours (and lose to the surroundings)
+double FixHeatFMFS::dirichlet_rate() const
+{
+  double p = 0.0;
+  if (dirichlet.empty()) return p;
+  const Material *mat = pair->materials();
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (dirichlet_of(atom->mask[i]) < 0) continue;
+    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+    p += m * mat[atom->type[i]].cp * fix->state[i][FixSPHJCThermal::DTEMP];
+  }
+  return p;
+}
+
+/* ----------------------------------------------------------------------
+   conduction and surface losses: add to the temperature rate of the step
+------------------------------------------------------------------------- */
+
+void FixHeatFMFS::post_force(int)
+{
+  if (surface && surface->invoked_peratom != update->ntimestep) surface->compute_peratom();
+  if (domain->dimension == 2) conduction<2>();
+  else conduction<3>();
+}
+
+template <int DIM> void FixHeatFMFS::conduction()
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  double **st = fix->state;
+  const Material *mat = pair->materials();
+  const int kernel = pair->kernel();
+  const double dt = update->dt;
+  using F = FixSPHJCThermal;
+  double p_conv = 0.0, p_rad = 0.0;
+  const double sigma_sb = STEFAN_BOLTZMANN_SI;
+  sphcut::FmfsAccum<DIM> acc;
+
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int itype = type[i];
+    const Material &mi = mat[itype];
+    if (mi.cp <= 0.0) continue;
+    const double Ti = st[i][F::TEMP_F];
+    const double rhoi = st[i][F::RHO_F];
+    const double massi = rmass ? rmass[i] : mass[itype];
+    const int surf = surface ? surface->is_surface(i) : 0;
+    int use_fmfs = scheme == FMFS && !surf && mi.kappa > 0.0;
+    double brook = 0.0;
+    if (use_fmfs) sphcut::fmfs_zero<DIM>(acc);
+
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!(mask[j] & groupbit)) continue;
+      const int jtype = type[j];
+      double dx[3], r2 = 0.0;
+      for (int a = 0; a < 3; a++) {
+        dx[a] = x[i][a] - x[j][a];
+        r2 += dx[a] * dx[a];
+      }
+      const double h = pair->smoothing_length(itype, jtype);
+      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+      double w, wfac;
+      sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
+      const double Tj = st[j][F::TEMP_F];
+      const double vj = (rmass ? rmass[j] : mass[jtype]) / st[j][F::RHO_F];
+      const double kj = mat[jtype].kappa;
+      brook += vj * sphcut::brookshaw_pair_radial(Ti, Tj, mi.kappa, kj, wfac);
+      if (use_fmfs) {
+        if (kj != mi.kappa) {
+          use_fmfs = 0;    // material interface: heat flux form with the harmonic mean
+          continue;
+        }
+        const double r[3] = {-dx[0], -dx[1], -dx[2]};
+        const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+        sphcut::fmfs_add<DIM>(acc, r, g, vj, Tj - Ti);
+      }
+    }
+
+    double rate;    // rho cp dT/dt
+    double lap;
+    if (use_fmfs && sphcut::fmfs_laplacian<DIM>(acc, lap)) {
+      rate = mi.kappa * lap;
+      n_fmfs++;
+    } else {
+      if (use_fmfs) n_fallback++;
+      rate = brook;
+      n_brookshaw++;
+    }
+    double dT = rate / (rhoi * mi.cp);
+
+    if (surf && (hconv > 0.0 || emiss > 0.0)) {
+      const double vol = massi / rhoi;
+      const double area = DIM == 2 ? sqrt(vol) : pow(vol, 2.0 / 3.0);
+      const double qc = hconv * (Ti - tconv) * area;
+      const double qr = emiss * sigma_sb * (Ti * Ti * Ti * Ti - trad * trad * trad * trad) * area;
+      p_conv += qc;
+      p_rad += qr;
+      dT -= (qc + qr) / (massi * mi.cp);
+    }
+    st[i][F::DTEMP] += dT;
+  }
+  // losses over the step with the trapezoidal weights of the temperature update
+  if (!update->setupflag) {
+    q_conv += 0.5 * dt * (p_conv_prev + p_conv);
+    q_rad += 0.5 * dt * (p_rad_prev + p_rad);
+  }
+  p_conv_prev = p_conv;
+  p_rad_prev = p_rad;
+}
+
+/* ----------------------------------------------------------------------
+   heat source (energy/time) for local atom i, e.g. friction heat
+------------------------------------------------------------------------- */
+
+void FixHeatFMFS::add_heat(int i, double power)
+{
+  if (i >= atom->nlocal || !(atom->mask[i] & groupbit)) return;
+  const Material &mt = pair->materials()[atom->type[i]];
+  if (mt.cp <= 0.0) return;
+  const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+  fix->state[i][FixSPHJCThermal::DTEMP] += power / (m * mt.cp);
+  // booked with the rectangle rule (the temperature uses the trapezoid: O(dt) difference per step)
+  if (!update->setupflag) q_sources += power * update->dt;
+}
+
+/* ----------------------------------------------------------------------
+   after the temperature update: Dirichlet particles back to their
+   temperature; the energy that takes is the heat through the clamp.
+   Their neighbours were updated with dt/2 (rate of the previous step +
+   rate of this step), both containing the exchange with the clamp, but a
+   clamped particle's own update only with dt/2 (0 + rate of this step),
+   its previous rate having been zeroed: the reset covers the second half,
+   the first is dt/2 times the sum of m cp dT/dt saved from the previous
+   step.  With a conservative scheme element 3 then equals the energy change.
+------------------------------------------------------------------------- */
+
+void FixHeatFMFS::final_integrate()
+{
+  using F = FixSPHJCThermal;
+  if (dirichlet.empty()) return;
+  const Material *mat = pair->materials();
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int k = dirichlet_of(atom->mask[i]);
+    if (k < 0) continue;
+    double *s = fix->state[i];
+    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+    // the temperature update moved T by dt/2 (rate_old + rate_new): that heat went through the clamp
+    q_dirichlet += m * mat[atom->type[i]].cp * (dirichlet[k].temp - s[F::TEMP]);
+    s[F::TEMP] = dirichlet[k].temp;
+  }
+}
+
+// after the predictor of fix sph/jc-thermal: Dirichlet particles keep their temperature
+// (their rate is kept, so the next corrector books the flux with trapezoidal weights)
+void FixHeatFMFS::initial_integrate(int)
+{
+  for (int i = 0; i < atom->nlocal; i++) {
+    const int k = dirichlet_of(atom->mask[i]);
+    if (k >= 0) fix->state[i][FixSPHJCThermal::TEMP_F] = dirichlet[k].temp;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   global vector: 1 heat lost by convection, 2 by radiation, 3 heat entering
+   through Dirichlet groups, 4 heat added by sources, 5 thermal energy
+   sum m cp T of the group, 6 fraction of particle evaluations on FMFS (since the fix was defined)
+------------------------------------------------------------------------- */
+
+double FixHeatFMFS::compute_vector(int n)
+{
+  double loc = 0.0, res = 0.0;
+  if (n == 0) loc = q_conv;
+  else if (n == 1) loc = q_rad;
+  else if (n == 2) loc = q_dirichlet;
+  else if (n == 3) loc = q_sources;
+  else if (n == 4) {
+    if (!fix || !pair)
+      error->all(FLERR, "Fix heat/fmfs: the thermal energy (element 5) is available from the first run (or run 0) on");
+    const Material *mat = pair->materials();
+    for (int i = 0; i < atom->nlocal; i++) {
+      if (!(atom->mask[i] & groupbit)) continue;
+      const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
+      loc += m * mat[atom->type[i]].cp * fix->state[i][FixSPHJCThermal::TEMP];
+    }
+  } else {
+    double c[2] = {(double) n_fmfs, (double) (n_fmfs + n_brookshaw)}, g[2];
+    MPI_Allreduce(c, g, 2, MPI_DOUBLE, MPI_SUM, world);
+    return g[1] > 0.0 ? g[0] / g[1] : 0.0;
+  }
+  MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+  return res;
+}
+
+void FixHeatFMFS::write_restart(FILE *fp)
+{
+  double loc[4] = {q_conv, q_rad, q_dirichlet, q_sources}, tot[4];
+  MPI_Allreduce(loc, tot, 4, MPI_DOUBLE, MPI_SUM, world);
+  if (comm->me == 0) {
+    int size = 4 * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(tot, sizeof(double), 4, fp);
+  }
+}
+
+void FixHeatFMFS::restart(char *buf)
+{
+  const double *list = (const double *) buf;
+  const int me0 = comm->me == 0;
+  q_conv = me0 ? list[0] : 0.0;
+  q_rad = me0 ? list[1] : 0.0;
+  q_dirichlet = me0 ? list[2] : 0.0;
+  q_sources = me0 ? list[3] : 0.0;
+}

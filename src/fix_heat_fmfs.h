@@ -1,0 +1,76 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - fix heat/fmfs: heat conduction of the SPH particles with the
+   second-order FMFS Laplacian (seed 003 eqs. 13-15), Brookshaw at surface
+   particles (eq. 12), harmonic-mean conductivity between materials (seed
+   000 eq. 6), convection and radiation on free surfaces (eq. 8),
+   Dirichlet temperatures (eq. 7).  The temperature itself is integrated
+   by fix sph/jc-thermal: this fix adds to its temperature rate.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(heat/fmfs,FixHeatFMFS);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_HEAT_FMFS_H
+#define LMP_FIX_HEAT_FMFS_H
+
+#include "fix.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermal;
+class PairSPHJCThermal;
+class ComputeSurfaceLambda;
+
+class FixHeatFMFS : public Fix {
+ public:
+  FixHeatFMFS(class LAMMPS *, int, char **);
+  ~FixHeatFMFS() override;
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup(int) override;
+  void initial_integrate(int) override;
+  void post_force(int) override;
+  void final_integrate() override;
+  double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+
+  // entry point for heat sources (fix contact/tri-penalty: friction heat):
+  // add `power` (energy/time) to local atom i during post_force of this step
+  void add_heat(int i, double power);
+
+ private:
+  enum { FMFS, BROOKSHAW };
+  int scheme;
+  char *id_surface;
+  ComputeSurfaceLambda *surface;
+  double hconv, tconv;          // convection coefficient and ambient temperature
+  double emiss, trad;           // emissivity and ambient temperature of radiation
+  struct Dirichlet {
+    int groupbit;
+    double temp;
+  };
+  std::vector<Dirichlet> dirichlet;
+  // energy budget (energy units, summed over this rank; reduced on output)
+  double q_conv, q_rad, q_dirichlet, q_sources;
+  bigint n_fmfs, n_brookshaw, n_fallback;    // counters of this rank
+  double p_conv_prev, p_rad_prev;            // loss rates of the previous step
+  double p_dir_prev;                         // sum m cp dT/dt of the Dirichlet particles, previous step
+  class NeighList *list;
+  FixSPHJCThermal *fix;
+  PairSPHJCThermal *pair;
+  int dirichlet_of(int mask) const;
+  double dirichlet_rate() const;
+  template <int DIM> void conduction();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,484 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - node-to-surface penalty contact of SPH particles with a rigid
+   triangulated tool (seed 000, sec. 3, eqs. 7-17): closest point,
+   contact normal, penalty + friction force and the bin query of the
+   tool triangles.  Host and device (SPHCUT_INLINE), no heap, no
+   exceptions.  The host-only pieces (STL I/O, the bin build, the cutting
+   insert) are in sphcut_stl.h.
+
+   Elements: a triangle is 9 doubles (a, b, c), a 2D segment 6 doubles
+   (a, b; z ignored, the segment lies in the x-y plane).  The outward
+   normal of a triangle follows the right-hand rule, n = (b-a)x(c-a)/|..|
+   (eq. 7, STL winding); that of a segment a->b is (b-a) x e_z =
+   (dy, -dx)/|..|, i.e. a closed 2D outline traversed counter-clockwise
+   has outward normals (a triangle extruded from a->b along +z has the
+   same normal).
+
+   Typical use for particle i and a rigid tool that only translates by
+   disp (its mesh and bins stay in the tool frame):
+     xt = x_i - disp
+     n = tri_bin_query(bins, xt, rcut, cand, MAXCAND)
+     pick the candidate with the smallest |xt - q| (on a tie the FACE hit)
+     d = contact_normal(xt, a, b, c, q, region, two_sided, nrm)
+     penalty_contact(in, out)         (in.n = nrm, in.d = d, in.q = q + disp)
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_CONTACT_H
+#define SPHCUT_CONTACT_H
+
+#include "sphcut_math.h"
+
+namespace sphcut {
+
+// feature of a triangle (segment) holding the closest point; for a
+// segment FACE is its interior and VERT_A / VERT_B its end points
+enum ContactRegion {
+  FACE = 0,
+  EDGE_AB = 1,
+  EDGE_BC = 2,
+  EDGE_CA = 3,
+  VERT_A = 4,
+  VERT_B = 5,
+  VERT_C = 6
+};
+
+/* ----------------------------------------------------------------------
+   3-vector helpers
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double dot3(const double *a, const double *b)
+{
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+SPHCUT_INLINE void cross3(const double *a, const double *b, double *c)
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+SPHCUT_INLINE void sub3(const double *a, const double *b, double *c)
+{
+  c[0] = a[0] - b[0];
+  c[1] = a[1] - b[1];
+  c[2] = a[2] - b[2];
+}
+
+SPHCUT_INLINE double len3(const double *a)
+{
+  return sqrt(dot3(a, a));
+}
+
+// c = a + s b
+SPHCUT_INLINE void axpy3(const double *a, double s, const double *b, double *c)
+{
+  c[0] = a[0] + s * b[0];
+  c[1] = a[1] + s * b[1];
+  c[2] = a[2] + s * b[2];
+}
+
+/* ----------------------------------------------------------------------
+   closest point q on segment ab to p (any dimension; a 2D tool uses z = 0).
+   region: FACE (interior), VERT_A or VERT_B.  Returns |p - q|^2.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double closest_point_segment(const double *p, const double *a, const double *b,
+                                           double *q, int &region)
+{
+  double ab[3], ap[3];
+  sub3(b, a, ab);
+  sub3(p, a, ap);
+  const double t = dot3(ap, ab);
+  const double l2 = dot3(ab, ab);
+  if (t <= 0.0 || l2 <= 0.0) {
+    region = VERT_A;
+    for (int k = 0; k < 3; k++) q[k] = a[k];
+  } else if (t >= l2) {
+    region = VERT_B;
+    for (int k = 0; k < 3; k++) q[k] = b[k];
+  } else {
+    region = FACE;
+    axpy3(a, t / l2, ab, q);
+  }
+  double pq[3];
+  sub3(p, q, pq);
+  return dot3(pq, pq);
+}
+
+/* ----------------------------------------------------------------------
+   closest point q on triangle abc to p, after Ericson, Real-Time Collision
+   Detection, 5.1.5: classify p by the Voronoi regions of the vertices,
+   then of the edges, else project onto the face.  This widens seed 000
+   eq. 8 (face hits only) to edges and vertices, so particles at the
+   rounded cutting edge and at corners are caught.  Returns |p - q|^2.
+   A degenerate (zero area) triangle falls back to its three edges.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double closest_point_triangle(const double *p, const double *a, const double *b,
+                                            const double *c, double *q, int &region)
+{
+  double ab[3], ac[3], ap[3], bp[3], cp[3];
+  sub3(b, a, ab);
+  sub3(c, a, ac);
+  sub3(p, a, ap);
+  sub3(p, b, bp);
+  sub3(p, c, cp);
+
+  const double d1 = dot3(ab, ap), d2 = dot3(ac, ap);
+  const double d3 = dot3(ab, bp), d4 = dot3(ac, bp);
+  const double d5 = dot3(ab, cp), d6 = dot3(ac, cp);
+
+  // barycentric-like edge tests (Ericson's va, vb, vc)
+  const double vc = d1 * d4 - d3 * d2;
+  const double vb = d5 * d2 - d1 * d6;
+  const double va = d3 * d6 - d5 * d4;
+  const double sum = va + vb + vc;    // = |ab x ac|^2 > 0 unless degenerate
+
+  if (!(sum > 0.0)) {
+    // degenerate: best of the three edges, reported as edge/vertex of abc
+    double qe[3], best = -1.0;
+    const double *e0[3] = {a, b, c}, *e1[3] = {b, c, a};
+    const int ereg[3] = {EDGE_AB, EDGE_BC, EDGE_CA};
+    const int v0[3] = {VERT_A, VERT_B, VERT_C}, v1[3] = {VERT_B, VERT_C, VERT_A};
+    for (int e = 0; e < 3; e++) {
+      int r;
+      const double dd = closest_point_segment(p, e0[e], e1[e], qe, r);
+      if (best < 0.0 || dd < best) {
+        best = dd;
+        for (int k = 0; k < 3; k++) q[k] = qe[k];
+        region = r == FACE ? ereg[e] : (r == VERT_A ? v0[e] : v1[e]);
+      }
+    }
+    return best;
+  }
+
+  if (d1 <= 0.0 && d2 <= 0.0) {
+    region = VERT_A;
+    for (int k = 0; k < 3; k++) q[k] = a[k];
+  } else if (d3 >= 0.0 && d4 <= d3) {
+    region = VERT_B;
+    for (int k = 0; k < 3; k++) q[k] = b[k];
+  } else if (d6 >= 0.0 && d5 <= d6) {
+    region = VERT_C;
+    for (int k = 0; k < 3; k++) q[k] = c[k];
+  } else if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
+    region = EDGE_AB;
+    axpy3(a, d1 / (d1 - d3), ab, q);
+  } else if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
+    region = EDGE_BC;
+    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    double bc[3];
+    sub3(c, b, bc);
+    axpy3(b, w, bc, q);
+  } else if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
+    region = EDGE_CA;
+    axpy3(a, d2 / (d2 - d6), ac, q);
+  } else {
+    region = FACE;
+    const double v = vb / sum, w = vc / sum;
+    for (int k = 0; k < 3; k++) q[k] = a[k] + v * ab[k] + w * ac[k];
+  }
+  double pq[3];
+  sub3(p, q, pq);
+  return dot3(pq, pq);
+}
+
+/* ----------------------------------------------------------------------
+   face normal, eq. 7: n = (b-a)x(c-a)/|..|; returns twice the area
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double triangle_normal(const double *a, const double *b, const double *c, double *n)
+{
+  double u[3], v[3];
+  sub3(b, a, u);
+  sub3(c, a, v);
+  cross3(u, v, n);
+  const double l = len3(n);
+  if (l > 0.0)
+    for (int k = 0; k < 3; k++) n[k] /= l;
+  return l;
+}
+
+// outward normal of a 2D segment a->b: (dy, -dx)/|..|, z = 0; returns the length
+SPHCUT_INLINE double segment_normal(const double *a, const double *b, double *n)
+{
+  const double dx = b[0] - a[0], dy = b[1] - a[1];
+  const double l = sqrt(dx * dx + dy * dy);
+  n[0] = l > 0.0 ? dy / l : 0.0;
+  n[1] = l > 0.0 ? -dx / l : 0.0;
+  n[2] = 0.0;
+  return l;
+}
+
+/* ----------------------------------------------------------------------
+   contact normal n (unit, out of the tool) and signed distance d of p to
+   the closest point q found above, given the element's face normal nf.
+     FACE hit: n = nf (eq. 7), d = nf.(p - q) (seed eq. 9 without |.|).
+     EDGE / VERTEX hit: n = (p - q)/|p - q|, d = |p - q|, i.e. n points
+       from the feature to the particle (rounded edge, corners).
+   closed solid (two_sided = 0, default for tools read from STL): d < 0
+     means the particle is behind the face, i.e. inside the tool; an
+     edge/vertex hit with (p - q).nf < 0 is inside too: d = -|p - q| and
+     n = (q - p)/|p - q|, so n still points out of the tool.  This is
+     right for the globally closest element (pick the smallest |p - q|,
+     a FACE hit on ties).
+   zero-thickness sheet (two_sided = 1, seed's plate elements, eq. 9 with
+     |.|): n is flipped to the particle's side and d = |p - q| >= 0.
+   p == q on an edge/vertex: n = nf (flipped for two_sided), d = 0.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double contact_normal_from(const double *p, const double *q, const double *nf,
+                                         int region, int two_sided, double *n)
+{
+  double pq[3];
+  sub3(p, q, pq);
+  const double s = dot3(pq, nf);
+  if (region == FACE) {
+    const double sg = (two_sided && s < 0.0) ? -1.0 : 1.0;
+    for (int k = 0; k < 3; k++) n[k] = sg * nf[k];
+    return sg * s;
+  }
+  const double l = len3(pq);
+  if (!(l > 0.0)) {
+    for (int k = 0; k < 3; k++) n[k] = nf[k];
+    return 0.0;
+  }
+  const double sg = (!two_sided && s < 0.0) ? -1.0 : 1.0;
+  for (int k = 0; k < 3; k++) n[k] = sg * pq[k] / l;
+  return sg * l;
+}
+
+// triangle abc
+SPHCUT_INLINE double contact_normal(const double *p, const double *a, const double *b,
+                                    const double *c, const double *q, int region, int two_sided,
+                                    double *n)
+{
+  double nf[3];
+  triangle_normal(a, b, c, nf);
+  return contact_normal_from(p, q, nf, region, two_sided, n);
+}
+
+// 2D segment ab (x-y plane)
+SPHCUT_INLINE double contact_normal_segment(const double *p, const double *a, const double *b,
+                                            const double *q, int region, int two_sided, double *n)
+{
+  double nf[3];
+  segment_normal(a, b, nf);
+  return contact_normal_from(p, q, nf, region, two_sided, n);
+}
+
+/* ----------------------------------------------------------------------
+   penalty stiffness, eq. 10: k = PFAC E_i E_j dp/(E_i + E_j); E_j <= 0
+   means a rigid tool: k = PFAC E_i dp.
+   3D: force/length [N/m] (a particle column of cross section dp^2 and
+   length dp: k = E* dp^2/dp).
+   2D: LAMMPS 2D masses are per unit thickness (rho dx^2), so the force is
+   per unit thickness too: the column has cross section dp x 1, k = E* (1 dp)/dp
+   = PFAC E* [N/m per m of thickness]; dp drops out.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double penalty_stiffness(double E_i, double E_j, double dp, double pfac, int dim)
+{
+  const double estar = E_j > 0.0 ? E_i * E_j / (E_i + E_j) : E_i;
+  return dim == 2 ? pfac * estar : pfac * estar * dp;
+}
+
+/* ----------------------------------------------------------------------
+   damping coefficient D = DFAC 2 sqrt(k mu_red), mu_red = m_i m_j/(m_i + m_j)
+   (m_j <= 0: rigid tool, mu_red = m_i), so DFAC = 1 is critical damping
+   of the linear spring-dashpot.
+   Deviation from seed eq. 11, D = DFAC (m_i + m_j) sqrt(k/mu_red): that
+   has the right units but equals 2 sqrt(k mu_red) only when
+   (m_i + m_j)^2 = 2 m_i m_j (never; equal masses give 2x critical) and
+   diverges for a rigid tool (m_j -> infinity).
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double penalty_damping(double k, double m_i, double m_j, double dfac)
+{
+  const double mred = m_j > 0.0 ? m_i * m_j / (m_i + m_j) : m_i;
+  return dfac * 2.0 * sqrt(k * mred);
+}
+
+/* ----------------------------------------------------------------------
+   one particle - tool contact pair
+------------------------------------------------------------------------- */
+
+struct ContactIn {
+  double x[3] = {0.0, 0.0, 0.0};        // particle position (diagnostics only: d, n carry the geometry)
+  double v[3] = {0.0, 0.0, 0.0};        // particle velocity
+  double mass = 0.0;                    // particle mass (2D: per unit thickness)
+  double h = 0.0;                       // smoothing length
+  double vtool[3] = {0.0, 0.0, 0.0};    // tool velocity at q
+  double q[3] = {0.0, 0.0, 0.0};        // contact point (diagnostics only)
+  double n[3] = {0.0, 0.0, 0.0};        // unit normal out of the tool (contact_normal)
+  double d = 0.0;                       // signed distance p - q (< 0: inside the tool)
+  double E_particle = 0.0;              // Young's modulus of the workpiece
+  double E_tool = 0.0;                  // Young's modulus of the tool (<= 0: rigid)
+  double m_tool = 0.0;                  // tool mass (<= 0: rigid)
+  double dp = 0.0;                      // particle spacing
+  int dim = 3;                          // 2: forces per unit thickness (eq. 10 note)
+  double pfac = 1.0;                    // penalty factor, eq. 10
+  double dfac = 0.0;                    // fraction of critical damping (penalty_damping)
+  double sfac = 1.2;                    // h = SFAC dp, eq. 9
+  double mu = 0.0;                      // Coulomb friction coefficient, eq. 13
+  double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
+};
+
+struct ContactOut {
+  int active;           // 1 if delta > 0
+  double f[3];          // total contact force on the particle, eq. 16 (tool gets -f)
+  double fn;            // normal force (n component), eq. 12; < 0 only while leaving
+  double ft[3];         // tangential (friction) force, eq. 13
+  double delta;         // penetration, eq. 9 (also when inactive)
+  double delta_dot;     // penetration rate -n.(v - vtool)
+  double vslide;        // sliding speed |v_rel,t|, eq. 14
+  double fric_power;    // |F_T| |v_rel,t| (heat source of friction)
+  double k, damp;       // stiffness and damping coefficient used
+};
+
+/* ----------------------------------------------------------------------
+   penalty force, eqs. 9-17:
+     delta = 0.5 h/SFAC - d                                  (eq. 9)
+     active if delta > 0.  The seed also requires the pair to approach
+       (delta_dot > 0); that filter only concerns pairs not yet in
+       contact, which get no force here anyway, so a penetrated pair
+       keeps its spring force while it separates (elastic rebound).
+     delta_dot = -n.(v_i - v_tool), the penetration rate
+     F_N = (k delta + D delta_dot) n                         (eq. 12)
+       the damping opposes the motion: seed eq. 12 writes -D delta_dot
+       with delta_dot the rate of the distance d; both are the same force.
+       Not clipped at 0: while a penetrated particle moves out the damping
+       term may pull briefly, as in eq. 12; this makes DFAC = 1 exactly
+       critical (no rebound) and DFAC < 1 rebound with the linear
+       oscillator's restitution exp(-pi z/sqrt(1-z^2)), z = DFAC.  The
+       force vanishes with the penetration, so there is no static adhesion.
+     v_t = v_rel - (v_rel.n) n, t = v_t/|v_t|                (eqs. 14-15)
+     F_T = -mu |F_N| min(1, |v_t|/v_reg) t                   (eq. 13)
+       linear regularisation below v_reg: no chattering at zero sliding
+       speed, F_T -> 0 continuously (v_reg <= 0: plain Coulomb).  The
+       viscous slope mu |F_N|/v_reg must be resolved by the time step,
+       dt < m v_reg/(mu |F_N|).
+     f = F_N + F_T                                           (eqs. 16-17)
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
+{
+  out.active = 0;
+  out.fn = out.vslide = out.fric_power = 0.0;
+  for (int k = 0; k < 3; k++) out.f[k] = out.ft[k] = 0.0;
+
+  double vrel[3];
+  sub3(in.v, in.vtool, vrel);
+  const double vn = dot3(vrel, in.n);
+  out.delta = 0.5 * in.h / in.sfac - in.d;
+  out.delta_dot = -vn;
+  out.k = penalty_stiffness(in.E_particle, in.E_tool, in.dp, in.pfac, in.dim);
+  out.damp = penalty_damping(out.k, in.mass, in.m_tool, in.dfac);
+  if (!(out.delta > 0.0)) return;
+  out.active = 1;
+
+  // not clipped: while the particle leaves (delta_dot < 0) the damping may pull (eq. 12 as
+  // written), so DFAC = 1 is exactly critical: no rebound.  Friction takes max(F_N, 0).
+  const double fn = out.k * out.delta + out.damp * out.delta_dot;
+  out.fn = fn;
+
+  double vt[3];
+  axpy3(vrel, -vn, in.n, vt);
+  const double vs = len3(vt);
+  out.vslide = vs;
+  if (in.mu > 0.0 && fn > 0.0 && vs > 0.0) {    // no friction without compression
+    const double ramp = (in.v_reg > 0.0 && vs < in.v_reg) ? vs / in.v_reg : 1.0;
+    const double ftmag = in.mu * fn * ramp;
+    for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * vt[k] / vs;
+    out.fric_power = ftmag * vs;
+  }
+  for (int k = 0; k < 3; k++) out.f[k] = fn * in.n[k] + out.ft[k];
+}
+
+/* ----------------------------------------------------------------------
+   uniform bin grid over the tool elements, in the tool's own frame (the
+   tool only translates: query with x - displacement).  Flat CSR arrays,
+   so a Kokkos port copies them into Views and points a TriBinView at the
+   device copies.  Built on the host by tri_bin_build() (sphcut_stl.h):
+   element e is listed in every bin whose box it may touch (its bounding
+   box and plane overlap the bin box), its bounding sphere (seed 000: one
+   sphere per triangle) is the cheap prefilter of the query.
+------------------------------------------------------------------------- */
+
+struct TriBinView {
+  int nvert;               // 3: triangles (9 doubles), 2: 2D segments (6 doubles)
+  int nelem;
+  const double *elem;      // element vertices, tool frame
+  const double *sphere;    // 4 per element: centre, radius
+  double lo[3];            // grid origin
+  double size;             // bin edge length
+  int n[3];                // bins per direction (n[2] = 1 for segments)
+  const int *start;        // n[0] n[1] n[2] + 1 offsets into index
+  const int *index;        // element ids, bin by bin (bin = (iz n[1] + iy) n[0] + ix)
+};
+
+/* closest point of element e to p (triangle or segment); returns |p - q|^2 */
+
+SPHCUT_INLINE double tri_bin_closest(const TriBinView &g, int e, const double *p, double *q,
+                                     int &region)
+{
+  const double *v = g.elem + (g.nvert == 3 ? 9 : 6) * e;
+  if (g.nvert == 3) return closest_point_triangle(p, v, v + 3, v + 6, q, region);
+  double pp[3] = {p[0], p[1], 0.0};
+  return closest_point_segment(pp, v, v + 3, q, region);
+}
+
+/* ----------------------------------------------------------------------
+   all elements within distance radius of x (tool frame; segments: the
+   distance in the x-y plane).  Ids go to out[0..maxout-1] without
+   duplicates, in no particular order; returns how many were found (more
+   than maxout means out is incomplete: enlarge it).
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE int tri_bin_query(const TriBinView &g, const double *x, double radius, int *out,
+                                int maxout)
+{
+  if (g.nelem <= 0 || g.n[0] <= 0) return 0;
+  const int nd = g.nvert == 3 ? 3 : 2;
+  const double pad = 1.0e-9 * g.size;
+  int ilo[3] = {0, 0, 0}, ihi[3] = {0, 0, 0};
+  for (int k = 0; k < nd; k++) {
+    const double flo = floor((x[k] - radius - pad - g.lo[k]) / g.size);
+    const double fhi = floor((x[k] + radius + pad - g.lo[k]) / g.size);
+    if (fhi < 0.0 || flo > g.n[k] - 1.0) return 0;
+    ilo[k] = flo < 0.0 ? 0 : (int) flo;
+    ihi[k] = fhi > g.n[k] - 1.0 ? g.n[k] - 1 : (int) fhi;
+  }
+  const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
+  const double r2 = radius * radius;
+  int count = 0;
+  for (int iz = ilo[2]; iz <= ihi[2]; iz++)
+    for (int iy = ilo[1]; iy <= ihi[1]; iy++)
+      for (int ix = ilo[0]; ix <= ihi[0]; ix++) {
+        const int bin = (iz * g.n[1] + iy) * g.n[0] + ix;
+        for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
+          const int e = g.index[m];
+          // seed 000: embedded sphere as prefilter
+          const double *s = g.sphere + 4 * e;
+          const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
+          if (dc2 > sq(radius + s[3])) continue;
+          double q[3];
+          int region;
+          if (tri_bin_closest(g, e, xx, q, region) > r2) continue;
+          bool dup = false;
+          const int nstored = count < maxout ? count : maxout;
+          for (int j = 0; j < nstored; j++)
+            if (out[j] == e) { dup = true; break; }
+          if (dup) continue;
+          // an overflowed list cannot be deduplicated: count stays an upper bound
+          if (count < maxout) out[count] = e;
+          count++;
+        }
+      }
+  return count;
+}
+
+}    // namespace sphcut
+
+#endif

@@ -1,0 +1,133 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - host utilities for rigid tool geometry (plain C++14, no
+   LAMMPS): STL reading/writing, a legacy VTK writer, the orthogonal
+   cutting insert generator and the build of the contact bins
+   (TriBinView of sphcut_contact.h).
+
+   Element arrays are flat std::vector<double>: 9 doubles per triangle
+   (a, b, c; outward normal by the right-hand rule, eq. 7 of seed 000),
+   6 per 2D segment (a, b with z = 0; outward normal (dy, -dx), i.e. a
+   closed outline runs counter-clockwise).
+
+   Errors: std::runtime_error (std::invalid_argument for bad parameters)
+   with a one-line message naming the file and the problem.
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_STL_H
+#define SPHCUT_STL_H
+
+#include "sphcut_contact.h"
+
+#include <string>
+#include <vector>
+
+namespace sphcut {
+
+/* ----------------------------------------------------------------------
+   placement of a mesh read from file: x' = R (scale x) + shift.
+   Angles in degrees.  Default: identity.
+     set_axis_angle(axis, angle): right-handed rotation about axis
+       (any length > 0) through the origin of the file frame.
+     set_euler_zyx(az, ay, ax): R = Rz(az) Ry(ay) Rx(ax), i.e. rotate
+       about the fixed x axis first, then y, then z (equivalently z, y', x''
+       about the moving axes).
+   scale must be > 0 (a mirror would flip the facet winding).
+------------------------------------------------------------------------- */
+
+struct StlTransform {
+  double scale = 1.0;
+  double shift[3] = {0.0, 0.0, 0.0};
+  double rot[9] = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};    // row major
+  void set_axis_angle(const double *axis, double angle_deg);
+  void set_euler_zyx(double az_deg, double ay_deg, double ax_deg);
+  void apply(const double *x, double *y) const;
+};
+
+/* ----------------------------------------------------------------------
+   read an ASCII or binary STL (auto-detected: a file is binary when its
+   size is 84 + 50 N with N the facet count of the binary header, even if
+   it starts with "solid" as many CAD exporters write; else ASCII when it
+   starts with "solid" and holds no NUL/control bytes; else binary).
+   Returns 9 doubles per facet after the transform.  Checks (throw):
+   missing/unreadable or empty file, no facets, truncated binary,
+   malformed ASCII (line number given), a degenerate (zero area) facet,
+   and a stored normal (non-zero) that disagrees with the vertex winding
+   (dot < 0; facet index given, facets count from 0).
+------------------------------------------------------------------------- */
+
+std::vector<double> read_stl(const std::string &file, const StlTransform &tf = StlTransform());
+
+// ASCII STL, coordinates with 17 significant digits (exact round trip)
+void write_stl_ascii(const std::string &file, const std::vector<double> &tri,
+                     const std::string &name = "sphcut");
+
+// binary STL (float32, little endian); header text is padded to 80 bytes
+void write_stl_binary(const std::string &file, const std::vector<double> &tri,
+                      const std::string &header = "sphcut binary STL");
+
+// legacy VTK polydata (ParaView, OVITO): nvert 3 = triangles with cell
+// normals, nvert 2 = 2D segments as lines
+void write_vtk_polydata(const std::string &file, const std::vector<double> &elem, int nvert = 3);
+
+/* ----------------------------------------------------------------------
+   orthogonal cutting insert.  Convention (x-y is the cutting plane):
+   - the tool cuts in -x (moves towards -x); the chip flows up (+y) along
+     the rake face, the machined surface lies below (y < 0 side).
+   - rake face: faces -x, tilted by gamma from the +y axis; positive gamma
+     tilts it away from the chip (it leans back towards +x going up):
+     direction up the face (sin g, cos g), outward normal (-cos g, sin g).
+   - flank face: faces -y, tilted by alpha from the -x direction so that
+     it rises behind the edge: direction (cos a, sin a) away from the edge,
+     outward normal (sin a, -cos a).  Wedge angle 90 - alpha - gamma > 0.
+   - cutting edge: circular arc of radius r_beta tangent to both faces,
+     centre (0, r_beta), split into arc_segments chords (vertices on the
+     arc; the split puts a vertex at the lowest point); its lowest point,
+     the tool tip, is at the origin.  r_beta = 0: sharp edge at the origin.
+   - rake_length / flank_length: face lengths from the arc tangent points.
+   - one back face joins the free ends of the rake and flank faces (the
+     section is a convex polygon).
+   dim 3: extruded over z in [-width/2, width/2], closed triangle mesh
+     with outward normals (end caps fan-triangulated).
+   dim 2: the closed section as counter-clockwise segments (6 doubles).
+   tags (optional): per element one of the InsertFace values.
+------------------------------------------------------------------------- */
+
+struct InsertParams {
+  double rake_angle = 0.0;         // gamma [deg]
+  double clearance_angle = 7.0;    // alpha [deg]
+  double edge_radius = 0.0;        // r_beta
+  double rake_length = 1.0;
+  double flank_length = 1.0;
+  double width = 1.0;              // dim 3 only
+  int arc_segments = 8;            // >= 1 (2 when the tip splits the arc)
+};
+
+enum InsertFace { INSERT_RAKE = 0, INSERT_EDGE = 1, INSERT_FLANK = 2, INSERT_BACK = 3, INSERT_SIDE = 4 };
+
+std::vector<double> make_cutting_insert(const InsertParams &p, int dim,
+                                        std::vector<int> *tags = nullptr);
+
+/* ----------------------------------------------------------------------
+   contact bins (host build, see TriBinView in sphcut_contact.h).  bin_size
+   is typically the contact cutoff (>= the query radius keeps a query at
+   <= 8 bins); it is enlarged when the grid would exceed max_bins.  The
+   elements are copied (segment z set to 0).  view() points into this
+   object: rebuild the view after moving or copying it.
+------------------------------------------------------------------------- */
+
+struct TriBins {
+  int nvert = 3;
+  std::vector<double> elem, sphere;
+  std::vector<int> start, index;
+  double lo[3] = {0.0, 0.0, 0.0};
+  double size = 0.0;
+  int n[3] = {0, 0, 0};
+  TriBinView view() const;
+};
+
+void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, TriBins &bins,
+                   long max_bins = 1L << 24);
+
+}    // namespace sphcut
+
+#endif
