@@ -49,9 +49,9 @@ static constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
 ------------------------------------------------------------------------- */
 
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), scheme(FMFS), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
+    Fix(lmp, narg, arg), scheme(FMFS), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
     emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
-    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), p_dir_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
+    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -65,6 +65,12 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
       if (v == "fmfs") scheme = FMFS;
       else if (v == "brookshaw") scheme = BROOKSHAW;
       else error->all(FLERR, "Fix heat/fmfs: unknown scheme {} (fmfs, brookshaw)", v);
+      iarg += 2;
+    } else if (kw == "fmfs_lambda") {
+      need(1);
+      fmfs_lambda = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (fmfs_lambda < 0.0 || fmfs_lambda > 1.0)
+        error->all(FLERR, "Fix heat/fmfs: fmfs_lambda must be in [0,1], got {}", fmfs_lambda);
       iarg += 2;
     } else if (kw == "surface") {
       need(1);
@@ -188,25 +194,9 @@ void FixHeatFMFS::setup(int vflag)
     s[F::TEMP] = s[F::TEMP_F] = dirichlet[k].temp;
   }
   sphcut::forward_comm(comm, fix);
+  // the rate of the Dirichlet particles is kept (not zeroed): the first corrector needs it
+  // as the old rate for the trapezoidal heat through the clamp (element 3)
   post_force(vflag);
-  p_dir_prev = dirichlet_rate();
-  for (int i = 0; i < atom->nlocal; i++)
-    if (dirichlet_of(atom->mask[i]) >= 0) fix->state[i][F::DTEMP] = 0.0;
-}
-
-// sum m cp dT/dt of the local Dirichlet particles (before their rate is zeroed): minus the
-// heat per time they pass on to their neighbours (and lose to the surroundings)
-double FixHeatFMFS::dirichlet_rate() const
-{
-  double p = 0.0;
-  if (dirichlet.empty()) return p;
-  const Material *mat = pair->materials();
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (dirichlet_of(atom->mask[i]) < 0) continue;
-    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-    p += m * mat[atom->type[i]].cp * fix->state[i][FixSPHJCThermal::DTEMP];
-  }
-  return p;
 }
 
 /* ----------------------------------------------------------------------
@@ -246,6 +236,8 @@ template <int DIM> void FixHeatFMFS::conduction()
     const double rhoi = st[i][F::RHO_F];
     const double massi = rmass ? rmass[i] : mass[itype];
     const int surf = surface ? surface->is_surface(i) : 0;
+    // FMFS only with a full enough kernel support (lambda of the particle's own
+    // renormalisation matrix >= fmfs_lambda) and one conductivity in the support
     int use_fmfs = scheme == FMFS && !surf && mi.kappa > 0.0;
     double brook = 0.0;
     if (use_fmfs) sphcut::fmfs_zero<DIM>(acc);
@@ -281,6 +273,7 @@ template <int DIM> void FixHeatFMFS::conduction()
 
     double rate;    // rho cp dT/dt
     double lap;
+    if (use_fmfs && sphcut::surface_lambda<DIM>(acc.B) < fmfs_lambda) use_fmfs = 0;
     if (use_fmfs && sphcut::fmfs_laplacian<DIM>(acc, lap)) {
       rate = mi.kappa * lap;
       n_fmfs++;
@@ -329,12 +322,10 @@ void FixHeatFMFS::add_heat(int i, double power)
 /* ----------------------------------------------------------------------
    after the temperature update: Dirichlet particles back to their
    temperature; the energy that takes is the heat through the clamp.
-   Their neighbours were updated with dt/2 (rate of the previous step +
-   rate of this step), both containing the exchange with the clamp, but a
-   clamped particle's own update only with dt/2 (0 + rate of this step),
-   its previous rate having been zeroed: the reset covers the second half,
-   the first is dt/2 times the sum of m cp dT/dt saved from the previous
-   step.  With a conservative scheme element 3 then equals the energy change.
+   Their rate is kept (and their predicted temperature reset to T_D in
+   initial_integrate), so the corrector moved them by dt/2 (old + new
+   rate), the same trapezoidal weights as their neighbours' exchange with
+   them: with a conservative scheme element 3 equals the energy change.
 ------------------------------------------------------------------------- */
 
 void FixHeatFMFS::final_integrate()

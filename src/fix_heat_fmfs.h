@@ -48,6 +48,7 @@ class FixHeatFMFS : public Fix {
  private:
   enum { FMFS, BROOKSHAW };
   int scheme;
+  double fmfs_lambda;           // FMFS only where lambda (own support) >= this
   char *id_surface;
   ComputeSurfaceLambda *surface;
   double hconv, tconv;          // convection coefficient and ambient temperature
@@ -61,12 +62,10 @@ class FixHeatFMFS : public Fix {
   double q_conv, q_rad, q_dirichlet, q_sources;
   bigint n_fmfs, n_brookshaw, n_fallback;    // counters of this rank
   double p_conv_prev, p_rad_prev;            // loss rates of the previous step
-  double p_dir_prev;                         // sum m cp dT/dt of the Dirichlet particles, previous step
   class NeighList *list;
   FixSPHJCThermal *fix;
   PairSPHJCThermal *pair;
   int dirichlet_of(int mask) const;
-  double dirichlet_rate() const;
   template <int DIM> void conduction();
 };
 

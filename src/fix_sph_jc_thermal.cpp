@@ -86,8 +86,9 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       if (dtmin <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: dtmin must be > 0, got {}", dtmin);
     } else if (kw == "thermal_cfl") {
       thermal_cfl = utils::numeric(FLERR, val, false, lmp);
-      if (thermal_cfl <= 0.0 || thermal_cfl > 0.5)
-        error->all(FLERR, "Fix sph/jc-thermal: thermal_cfl must be in (0,0.5], got {}", thermal_cfl);
+      // the Heun predictor-corrector of the temperature is stable to about 0.15-0.17 (measured)
+      if (thermal_cfl <= 0.0 || thermal_cfl > 0.15)
+        error->all(FLERR, "Fix sph/jc-thermal: thermal_cfl must be in (0,0.15], got {}", thermal_cfl);
     } else {
       error->all(FLERR, "Fix sph/jc-thermal: unknown keyword {}", kw);
     }
@@ -110,7 +111,8 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   extvector = -1;
   extlist = new int[6]{0, 1, 1, 1, 0, 0};    // energies are extensive
   peratom_flag = 1;
-  size_peratom_cols = NOUT;
+  // all columns: LAMMPS variables index per-atom arrays with this stride (columns past NOUT are internal)
+  size_peratom_cols = NCOL;
   peratom_freq = 1;
   restart_global = 1;
   restart_peratom = 1;

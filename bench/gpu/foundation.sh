@@ -19,7 +19,7 @@ export CUDA_CACHE_MAXSIZE=4294967296      # room for the JIT-compiled sm_90 code
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 mkdir -p "$SRC"
 tar xzf .carry/sphcut-sources.tar.gz -C "$SRC"
-{ nvidia-smi -L; nvcc --version | tail -2; cmake --version | head -1; } > "$OUT/device.txt" 2>&1 || true
+{ nvidia-smi -L; nvcc --version | tail -2; cmake --version | head -1; g++ --version | head -1; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1 || true
 
 t0=$(date +%s)
 bash tools/build-deps.sh --cuda --no-apt --sources "$SRC" --jobs "$NJ" 2>&1 | tee "$OUT/build-deps.log"
