@@ -85,6 +85,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
         if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" &&
             k != "flank_length" && k != "width" && k != "segments")
           break;
+        num(1);    // a LAMMPS error here if the value is not a number
         gargs.push_back(k);
         gargs.push_back(arg[iarg + 1]);
         iarg += 2;
@@ -221,6 +222,9 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool_particles (their conductivity)");
 
   nvert = domain->dimension == 2 ? 2 : 3;
+  if (write_every && nvert == 2 && utils::strmatch(write_file, "\\.stl$"))
+    error->all(FLERR, "Fix contact/tri-penalty: write file {}: a 2D tool (segments) can only be written as .vtk",
+               write_file);
   // rank 0 reads or builds the geometry, all ranks get a copy
   std::string msg;
   if (comm->me == 0) {
@@ -385,7 +389,7 @@ void FixContactTriPenalty::init()
   update_tool_velocity();
   if (!vreg_set) {
     const double s = sqrt(vtool[0] * vtool[0] + vtool[1] * vtool[1] + vtool[2] * vtool[2]);
-    vreg = 0.01 * s;    // 1 % of the tool speed (0 for a fixed tool: plain Coulomb)
+    vreg = 0.01 * s;    // 1 % of the tool speed (fixed tool: 0, Coulomb above the floor of post_force)
   }
 }
 
@@ -470,6 +474,7 @@ void FixContactTriPenalty::post_force(int)
   for (int k = 0; k < 3; k++) ftool[k] = 0.0;
   fric_power = work_rate = maxpen = 0.0;
   ncontact = 0;
+  double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
   int cand[MAXCAND];
 
   for (int i = 0; i < nlocal; i++) {
@@ -543,15 +548,22 @@ void FixContactTriPenalty::post_force(int)
     fric_power += out.fric_power;
 
     // friction heat (eq. 6 of seed 003): particle share and tool share
+    // (without a heat fix the workpiece share is not assigned: element 14)
     const double q = eta * out.fric_power;
-    if (q <= 0.0 || (!heat && !tool_cp)) continue;
-    const double qw = heat ? split * q : 0.0;
-    if (heat && qw > 0.0) heat->add_heat(i, qw);
+    if (q <= 0.0) continue;
     const double acc = update->setupflag ? 0.0 : dt;    // setup: rates only, no time passes
-    q_work += qw * acc;
-    double qt = q - qw;
+    const double qw = split * q;
+    if (qw > 0.0) {
+      if (heat) {
+        heat->add_heat(i, qw);
+        q_work += qw * acc;
+      } else {
+        q_tool_lost += qw * acc;
+      }
+    }
+    const double qt = q - qw;
     if (qt <= 0.0) continue;
-    if (toolbit && list) {
+    if (toolbit && list && heat) {
       // tool SPH particles near the contact (seed 000: NeibContTherm), kernel weighted
       double wsum = 0.0;
       const int *jl = list->firstneigh[i];    // the list holds every local atom, indexed by i
@@ -577,13 +589,19 @@ void FixContactTriPenalty::post_force(int)
       }
     }
     if (tool_cp > 0.0) {
-      tool_temp += qt * acc / tool_cp;
+      q_lumped += qt * acc;    // summed over the ranks below
       q_tool += qt * acc;
     } else {
       q_tool_lost += qt * acc;
     }
   }
 
+  if (tool_cp > 0.0) {
+    // the lumped tool is one body: every rank adds the heat of all ranks
+    double qsum = 0.0;
+    MPI_Allreduce(&q_lumped, &qsum, 1, MPI_DOUBLE, MPI_SUM, world);
+    tool_temp += qsum / tool_cp;
+  }
   if (toolbit && heat) {
     sphcut::reverse_comm(comm, this);
     for (int i = 0; i < nlocal; i++)

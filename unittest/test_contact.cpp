@@ -1,0 +1,760 @@
+// fix contact/tri-penalty (seed 000 sec. 3) driven through LAMMPS: a particle resting on a
+// tool plane (penetration m g / k, eq. 10), Coulomb sliding (deceleration mu g), normal impact
+// (restitution of the spring-dashpot, max penetration), edge and vertex hits (normal along
+// x - q), a rigid plate pushing an elastic strip (F = M A strain), friction heat and its
+// split between workpiece and tool particles, STL and input errors.  Each test asserts
+// physics against an analytic answer.  The MPI and restart invariance is test_contact_mpi.
+//
+// Common scene: SI units, rho 7800 kg/m^3, spacing dp = 1 mm (2D mass rho dp^2 per unit
+// thickness, 3D rho dp^3), hdx 1.3: h = 1.3 mm, contact radius rc = 0.5 h/SFAC = 0.5417 mm.
+// Stiffness as implemented (sphcut_contact.h penalty_stiffness): E* = E (rigid tool, E
+// keyword absent) or E E_t/(E + E_t); 2D k = PFAC E* (forces per unit thickness), 3D
+// k = PFAC E* dp.  Both give the same m/k = rho dp^2/(PFAC E*).
+#include "sphcut_test.h"
+
+#include "domain.h"
+#include "sphcut_stl.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+using sphcut_test::Lammps;
+
+namespace {
+
+const double RHO = 7800.0, DP = 1.0e-3, H = 1.3e-3, SFAC = 1.2;
+const double RC = 0.5 * H / SFAC;    // contact radius, seed 000 eq. 9
+const double PI = 3.14159265358979323846;
+
+std::string num(double x)
+{
+  char buf[40];
+  snprintf(buf, sizeof(buf), "%.17g", x);
+  return buf;
+}
+
+// closed box [lo, hi] as 12 triangles with outward normals (right-hand rule)
+std::vector<double> box_triangles(const double *lo, const double *hi)
+{
+  double v[8][3];
+  for (int k = 0; k < 8; k++) {
+    v[k][0] = (k == 1 || k == 2 || k == 5 || k == 6) ? hi[0] : lo[0];
+    v[k][1] = (k == 2 || k == 3 || k == 6 || k == 7) ? hi[1] : lo[1];
+    v[k][2] = k >= 4 ? hi[2] : lo[2];
+  }
+  // quads counter-clockwise seen from outside: -z, +z, -y, +y, +x, -x
+  const int quad[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  std::vector<double> tri;
+  for (auto &q : quad)
+    for (int t = 0; t < 2; t++) {
+      const int c[3] = {q[0], q[1 + t], q[2 + t]};
+      for (int k : c)
+        for (int a = 0; a < 3; a++) tri.push_back(v[k][a]);
+    }
+  return tri;
+}
+
+void write_box(const std::string &file, std::vector<double> lo, std::vector<double> hi, bool binary = false)
+{
+  const std::vector<double> tri = box_triangles(lo.data(), hi.data());
+  if (binary) sphcut::write_stl_binary(file, tri);
+  else sphcut::write_stl_ascii(file, tri, "box");
+}
+
+// the tool plate used by most tests: top face y = 0, |x|, |z| <= 20 mm
+void write_plate(const std::string &file = "plate.stl")
+{
+  write_box(file, {-0.02, -0.005, -0.02}, {0.02, 0.0, 0.02});
+}
+
+int rank()
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  return me;
+}
+
+// one particle of an elastic material (E Pa, no plasticity) at x, in 2D or 3D
+void one_particle(Lammps &l, int dim, const double *x, double E = 1.0e6, const std::string &extra = "")
+{
+  const double mass = dim == 2 ? RHO * DP * DP : RHO * DP * DP * DP;
+  l.cmds({"units si", "dimension " + std::to_string(dim), dim == 2 ? "boundary f f p" : "boundary f f f",
+          "atom_style atomic", "atom_modify map array",
+          std::string("region box block -0.02 0.02 -0.02 0.02 ") + (dim == 2 ? "-0.5e-3 0.5e-3" : "-0.02 0.02"),
+          "create_box 1 box",
+          "create_atoms 1 single " + num(x[0]) + " " + num(x[1]) + " " + num(dim == 2 ? 0.0 : x[2]) + " units box",
+          "mass 1 " + num(mass), "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3 " + extra, "fix sph all sph/jc-thermal",
+          "timestep 5e-6"});
+}
+
+double *fcontact(Lammps &l, int tag, const char *id = "tool")
+{
+  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix(id)];
+  return f->array_atom[l.lmp->atom->map(tag)];
+}
+
+double *pos(Lammps &l, int tag) { return l.lmp->atom->x[l.lmp->atom->map(tag)]; }
+double *vel(Lammps &l, int tag) { return l.lmp->atom->v[l.lmp->atom->map(tag)]; }
+
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   resting particle: k delta = m g, delta = m g / k with k from eq. 10 as implemented.
+   2D: k = PFAC E*, m = rho dp^2; 3D: k = PFAC E* dp, m = rho dp^3.  dfac 0.5 settles it.
+------------------------------------------------------------------------- */
+
+TEST(Rest, ParticleOnPlanePenetration)
+{
+  write_plate();
+  struct Case {
+    int dim;
+    double pfac, etool;    // etool 0: rigid tool, E* = E
+  };
+  const double E = 1.0e6, g = 1000.0;
+  for (const Case &c : {Case{2, 1.0, 0.0}, Case{2, 0.5, 1.0e6}, Case{3, 1.0, 0.0}, Case{3, 2.0, 3.0e6}}) {
+    Lammps l;
+    const double x0[3] = {0.0, RC, 0.0};
+    one_particle(l, c.dim, x0, E);
+    const double estar = c.etool > 0.0 ? E * c.etool / (E + c.etool) : E;
+    const double k = c.dim == 2 ? c.pfac * estar : c.pfac * estar * DP;
+    const double m = c.dim == 2 ? RHO * DP * DP : RHO * DP * DP * DP;
+    l.cmds({"fix g all gravity " + num(g) + " vector 0 -1 0",
+            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 pfac " + num(c.pfac) +
+                (c.etool > 0.0 ? " E " + num(c.etool) : ""),
+            "run 3000"});
+    const double delta = RC - pos(l, 1)[1], est = m * g / k;
+    std::printf("[ rest     ] %dD pfac %g E_tool %g: penetration %.6e m, m g/k %.6e m (%+.2e), contact force %.6g N\n",
+                c.dim, c.pfac, c.etool, delta, est, (delta - est) / est, -l.equal("f_tool[2]"));
+    EXPECT_NEAR(delta, est, 0.01 * est);
+    EXPECT_NEAR(-l.equal("f_tool[2]"), m * g, 1e-6 * m * g);    // the tool carries the weight
+    EXPECT_NEAR(fcontact(l, 1)[1], m * g, 1e-6 * m * g);       // per-atom contact force
+    EXPECT_EQ(l.equal("f_tool[5]"), 1.0);
+    EXPECT_NEAR(l.equal("f_tool[12]"), est / RC, 0.01 * est / RC);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   sliding particle at normal equilibrium (y = rc - m g/k): Coulomb friction F_T = mu m g
+   decelerates it at mu g (above vreg); mu 0 leaves the tangential velocity alone.
+   3D: sliding along (0.6, 0, 0.8): the friction opposes the sliding direction.
+------------------------------------------------------------------------- */
+
+TEST(Sliding, ParticleDecelerationMuG)
+{
+  write_plate();
+  const double E = 1.0e6, g = 1000.0;
+  struct Case {
+    int dim;
+    double mu;
+    std::string extra;
+  };
+  for (const Case &c : {Case{2, 0.3, ""}, Case{2, 0.3, " vreg 0.05"}, Case{2, 0.0, ""}, Case{3, 0.2, ""},
+                        Case{3, 0.0, ""}}) {
+    Lammps l;
+    const double m = c.dim == 2 ? RHO * DP * DP : RHO * DP * DP * DP;
+    const double k = c.dim == 2 ? E : E * DP;
+    const double x0[3] = {0.0, RC - m * g / k, 0.0};
+    one_particle(l, c.dim, x0, E);
+    const double dir[3] = {c.dim == 2 ? 1.0 : 0.6, 0.0, c.dim == 2 ? 0.0 : 0.8};
+    const double v0 = 1.0;
+    l.cmds({"velocity all set " + num(v0 * dir[0]) + " 0 " + num(v0 * dir[2]) + " units box",
+            "fix g all gravity " + num(g) + " vector 0 -1 0",
+            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + num(c.mu) + c.extra, "run 500"});
+    const double t = 500 * 5e-6;
+    const double *v = vel(l, 1);
+    const double vt = v[0] * dir[0] + v[2] * dir[2];
+    const double across = v[2] * dir[0] - v[0] * dir[2];
+    const double decel = (v0 - vt) / t;
+    std::printf("[ sliding  ] %dD mu %g%s: deceleration %.8g m/s^2, mu g %.8g, v_y %.2e, off-track v %.2e\n", c.dim,
+                c.mu, c.extra.c_str(), decel, c.mu * g, v[1], across);
+    if (c.mu > 0.0) {
+      EXPECT_GT(vt, 0.1);    // still sliding, above vreg
+      EXPECT_NEAR(decel, c.mu * g, 0.005 * c.mu * g);
+      EXPECT_NEAR(l.equal("f_tool[4]"), c.mu * m * g * vt, 0.01 * c.mu * m * g * vt);    // friction power
+    } else {
+      EXPECT_NEAR(vt, v0, 1e-10);
+      EXPECT_EQ(l.equal("f_tool[4]"), 0.0);
+    }
+    EXPECT_NEAR(across, 0.0, 1e-12);
+    EXPECT_NEAR(v[1], 0.0, 1e-9);    // the normal force stays m g
+  }
+}
+
+// below vreg the friction is viscous, mu m g |v_t|/vreg: v decays as exp(-mu g t/vreg).
+// A fixed tool (vreg 0: Coulomb) stops the particle and holds it: the stability floor
+// vreg >= mu F_N dt/m keeps the friction from flipping sign every step (chatter +- mu g dt)
+TEST(Sliding, RegularisedFrictionAndStop)
+{
+  write_plate();
+  const double E = 1.0e6, g = 1000.0, m = RHO * DP * DP, mu = 0.3;
+  for (double vreg : {1.0, 0.0}) {
+    Lammps l;
+    const double x0[3] = {0.0, RC - m * g / E, 0.0};
+    one_particle(l, 2, x0, E);
+    l.cmds({"velocity all set 0.5 0 0 units box", "fix g all gravity " + num(g) + " vector 0 -1 0",
+            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + num(mu) + " vreg " + num(vreg)});
+    if (vreg > 0.0) {
+      l.cmd("run 500");
+      const double t = 500 * 5e-6, v = vel(l, 1)[0], expect = 0.5 * exp(-mu * g * t / vreg);
+      std::printf("[ sliding  ] vreg %g: v %.6f m/s, 0.5 exp(-mu g t/vreg) %.6f (%+.2e)\n", vreg, v, expect,
+                  (v - expect) / expect);
+      EXPECT_NEAR(v, expect, 0.01 * expect);
+    } else {
+      l.cmd("run 1000");    // Coulomb stop after 0.5/(mu g) = 1.67 ms = 333 steps
+      const double v = vel(l, 1)[0];
+      double vmax = 0.0;
+      for (int k = 0; k < 20; k++) {
+        l.cmd("run 5 pre no post no");
+        vmax = std::max(vmax, fabs(vel(l, 1)[0]));
+      }
+      std::printf("[ sliding  ] vreg 0 (Coulomb): stopped, v %.2e m/s, max |v| over 100 more steps %.2e m/s "
+                  "(chatter would be mu g dt = %.1e)\n", v, vmax, mu * g * 5e-6);
+      EXPECT_LT(vmax, 1e-9);
+      EXPECT_NEAR(l.equal("f_tool[2]"), -m * g, 1e-6 * m * g);
+    }
+  }
+}
+
+// mu(T) at the particle temperature (Tref 300 K): table 200 K 0.1 .. 400 K 0.4 gives 0.25,
+// the variable 0.001 T gives 0.3, and the deceleration follows
+TEST(Sliding, MuOfTemperature)
+{
+  write_plate();
+  std::ofstream("mu.txt") << "# T mu\n200 0.1   # cold\n\n400 0.4\n";
+  const double E = 1.0e6, g = 1000.0, m = RHO * DP * DP;
+  struct Case {
+    std::string mu;
+    double expect;
+  };
+  for (const Case &c : {Case{"table mu.txt", 0.25}, Case{"v_mu tvar T", 0.3}}) {
+    Lammps l;
+    const double x0[3] = {0.0, RC - m * g / E, 0.0};
+    one_particle(l, 2, x0, E);
+    l.cmds({"variable T internal 0", "variable mu equal 0.001*v_T", "velocity all set 1 0 0 units box",
+            "fix g all gravity " + num(g) + " vector 0 -1 0",
+            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + c.mu, "run 500"});
+    const double decel = (1.0 - vel(l, 1)[0]) / (500 * 5e-6);
+    std::printf("[ sliding  ] mu %-12s at 300 K: deceleration %.8g m/s^2, expected %.8g\n", c.mu.c_str(), decel,
+                c.expect * g);
+    EXPECT_NEAR(decel, c.expect * g, 1e-6 * c.expect * g);
+  }
+  Lammps l;
+  const double x0[3] = {0.0, 0.005, 0.0};
+  one_particle(l, 2, x0);
+  std::ofstream("mu_bad.txt") << "300 0.2\n250 0.3\n";
+  EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl mu table mu_bad.txt",
+                               "mu table mu_bad.txt: temperatures must increase"));
+  EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl mu v_mu", "needs 'tvar NAME'"));
+}
+
+// a 19 x 4 block settles on the plate, then slides: first frictionless (the centre-of-mass
+// velocity is unchanged), then with mu 0.3.  The friction on the block is mu sum F_N, and
+// sum F_N - M g = M dv_y,cm/dt, so dv_x,cm = -mu (g t + dv_y,cm) exactly; after settling
+// the vertical motion is small and the deceleration is mu g within 0.5 %.
+TEST(Sliding, BlockDecelerationMuG)
+{
+  write_plate();
+  const double g = 1000.0, E = 1.0e7, mu = 0.3;
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "lattice sq 1e-3", "region box block -25 25 -5 10 -0.5 0.5", "create_box 1 box",
+          "region blk block -9.51 9.51 -0.01 3.01 -0.5 0.5", "create_atoms 1 region blk",
+          "displace_atoms all move 0 " + num(RC - 4 * RHO * DP * DP * g / E) + " 0 units box",
+          "mass 1 " + num(RHO * DP * DP), "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal",
+          "fix g all gravity " + num(g) + " vector 0 -1 0", "timestep 5e-6",
+          "fix tool all contact/tri-penalty stl plate.stl dfac 1", "run 6000"});
+  ASSERT_EQ(l.lmp->atom->natoms, 76);    // 19 x 4
+  const double M = 76 * RHO * DP * DP;
+  EXPECT_NEAR(-l.equal("f_tool[2]"), M * g, 0.02 * M * g);
+  EXPECT_EQ(l.equal("f_tool[5]"), 19.0);    // the bottom row is in contact
+  l.cmds({"velocity all set 1.0 NULL NULL sum yes units box", "run 200"});
+  const double vx_free = l.equal("vcm(all,x)");
+  l.cmds({"unfix tool", "fix tool all contact/tri-penalty stl plate.stl dfac 1 mu " + num(mu)});
+  const double vx0 = l.equal("vcm(all,x)"), vy0 = l.equal("vcm(all,y)");
+  l.cmd("run 500");
+  const double t = 500 * 5e-6;
+  const double vx1 = l.equal("vcm(all,x)"), vy1 = l.equal("vcm(all,y)");
+  const double decel = (vx0 - vx1) / t, exact = mu * (g + (vy1 - vy0) / t);
+  std::printf("[ sliding  ] block: frictionless dv_x %.2e; mu %g: deceleration %.6g m/s^2, mu g %.6g (%+.3f %%), "
+              "mu (g + dv_y/t) %.6g\n",
+              vx_free - 1.0, mu, decel, mu * g, 100 * (decel - mu * g) / (mu * g), exact);
+  EXPECT_NEAR(vx_free, 1.0, 1e-10);
+  EXPECT_NEAR(decel, mu * g, 0.005 * mu * g);
+  EXPECT_NEAR(decel, exact, 1e-6 * mu * g);
+}
+
+/* ----------------------------------------------------------------------
+   normal impact at v0 = 3 m/s (no gravity): the spring-dashpot of eq. 12 as implemented has
+   the linear oscillator's restitution e = exp(-pi z / sqrt(1 - z^2)), z = dfac: 1 for
+   dfac 0, no rebound for dfac 1 (critical).  Max penetration (dfac 0) v0 sqrt(m/k) = 0.49 rc:
+   the particle centre stays outside the tool surface (ratio < 1, element 12).
+------------------------------------------------------------------------- */
+
+TEST(Impact, ParticleRestitutionAndPenetration)
+{
+  write_plate();
+  const double E = 1.0e6, v0 = 3.0;
+  struct Case {
+    int dim;
+    double dfac;
+  };
+  for (const Case &c : {Case{2, 0.0}, Case{3, 0.0}, Case{2, 0.3}, Case{2, 1.0}}) {
+    Lammps l;
+    const double x0[3] = {0.0, RC + 1.0e-4, 0.0};
+    one_particle(l, c.dim, x0, E);
+    l.cmds({"timestep 2e-6", "velocity all set 0 " + num(-v0) + " 0 units box",
+            "fix tool all contact/tri-penalty stl plate.stl dfac " + num(c.dfac), "fix pen all vector 1 f_tool[12]",
+            "fix nc all vector 1 f_tool[5]", "run 1000"});
+    const double m = c.dim == 2 ? RHO * DP * DP : RHO * DP * DP * DP;
+    const double k = c.dim == 2 ? E : E * DP;
+    const double pmax = l.equal("max(f_pen)");
+    const double vy = vel(l, 1)[1];
+    const double z = c.dfac;
+    std::printf("[ impact   ] %dD dfac %g: rebound ratio %.6f, max penetration / rc %.4f, in contact at the end %g\n",
+                c.dim, c.dfac, vy / v0, pmax, l.equal("f_tool[5]"));
+    EXPECT_LT(pmax, 1.0);    // never deeper than 0.5 h/SFAC: the centre stays outside the tool
+    EXPECT_GT(pmax, 0.1);
+    if (z < 1.0) {
+      const double e = exp(-PI * z / sqrt(1.0 - z * z));
+      EXPECT_NEAR(vy / v0, e, 0.02 * e);
+      EXPECT_EQ(l.equal("f_tool[5]"), 0.0);    // separated
+      if (z == 0.0) EXPECT_NEAR(pmax, v0 * sqrt(m / k) / RC, 0.02 * v0 * sqrt(m / k) / RC);
+    } else {
+      // critically damped: creeps back towards delta = 0 without leaving the surface
+      EXPECT_LT(fabs(vy), 1e-4 * v0);
+      EXPECT_EQ(l.equal("min(f_nc)"), 0.0);    // before the impact
+      EXPECT_EQ(l.equal("f_tool[5]"), 1.0);    // never separated: no rebound
+    }
+    EXPECT_NEAR(vel(l, 1)[0], 0.0, 1e-12);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   edge and vertex hits on a box tool: the contact normal of an edge/vertex hit is
+   (x - q)/|x - q| (sphcut_contact.h), not a face normal.  A particle approaching the edge
+   x = y = 0 (3D, along z) or the vertex (0, 0, 0) along a ray gets a contact force along
+   that ray at every step of the contact and leaves back along it at its impact speed.
+------------------------------------------------------------------------- */
+
+TEST(EdgeVertex, PushedOutAlongFeatureNormal)
+{
+  // tool: x, y <= 0 (and z <= 0 for the corner case)
+  write_box("edge.stl", {-0.01, -0.01, -0.01}, {0.0, 0.0, 0.01});
+  write_box("corner.stl", {-0.01, -0.01, -0.01}, {0.0, 0.0, 0.0});
+  struct Case {
+    int dim;
+    const char *file;
+    double dir[3];    // ray from the feature to the particle
+    const char *what;
+  };
+  for (const Case &c : {Case{3, "edge.stl", {1.0, 1.0, 0.0}, "3D edge, diagonal"},
+                        Case{3, "edge.stl", {1.0, 0.45, 0.0}, "3D edge, off-diagonal"},
+                        Case{3, "corner.stl", {1.0, 1.0, 1.0}, "3D vertex, diagonal"},
+                        Case{3, "corner.stl", {0.5, 1.0, 0.8}, "3D vertex, off-diagonal"},
+                        Case{2, "edge.stl", {1.0, 0.6, 0.0}, "2D corner of the section"}}) {
+    double n[3];
+    const double ln = sqrt(c.dir[0] * c.dir[0] + c.dir[1] * c.dir[1] + c.dir[2] * c.dir[2]);
+    for (int a = 0; a < 3; a++) n[a] = c.dir[a] / ln;
+    // the feature: the edge (q = (0, 0, z)) or the vertex (q = 0)
+    const bool vertex = std::string(c.file) == "corner.stl" || c.dim == 2;
+    Lammps l;
+    const double d0 = RC + 2.0e-4, v0 = 2.0;
+    const double zoff = vertex ? 0.0 : 1.0e-3;    // an edge hit away from z = 0
+    const double x0[3] = {d0 * n[0], d0 * n[1], d0 * n[2] + zoff};
+    one_particle(l, c.dim, x0, 1.0e6);
+    l.cmds({"timestep 2e-6",
+            "velocity all set " + num(-v0 * n[0]) + " " + num(-v0 * n[1]) + " " + num(-v0 * n[2]) + " units box",
+            std::string("fix tool all contact/tri-penalty dfac 0 stl ") + c.file});
+    double worst = 0.0, fmax = 0.0;
+    int ncontact = 0;
+    for (int s = 0; s < 60; s++) {
+      l.cmd("run 5 pre no post no");
+      const double *x = pos(l, 1), *f = fcontact(l, 1);
+      const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      if (fl == 0.0) continue;
+      ncontact++;
+      double r[3] = {x[0], x[1], vertex ? x[2] : 0.0};    // x - q
+      const double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+      double cr = 0.0;    // |f/|f| x r/|r||
+      const double cx = f[1] * r[2] - f[2] * r[1], cy = f[2] * r[0] - f[0] * r[2], cz = f[0] * r[1] - f[1] * r[0];
+      cr = sqrt(cx * cx + cy * cy + cz * cz) / (fl * rl);
+      worst = std::max(worst, cr);
+      fmax = std::max(fmax, fl);
+      EXPECT_GT(f[0] * r[0] + f[1] * r[1] + f[2] * r[2], 0.0);    // pushed out, not in
+    }
+    const double *v = vel(l, 1);
+    const double vout = v[0] * n[0] + v[1] * n[1] + v[2] * n[2];
+    double vperp = 0.0;
+    for (int a = 0; a < 3; a++) vperp += (v[a] - vout * n[a]) * (v[a] - vout * n[a]);
+    vperp = sqrt(vperp);
+    std::printf("[ feature  ] %-26s: %2d samples in contact, max |f x (x-q)|/(|f||x-q|) %.2e, "
+                "rebound along the ray %.5f v0, across %.1e\n",
+                c.what, ncontact, worst, vout / v0, vperp / v0);
+    EXPECT_GT(ncontact, 3);
+    EXPECT_LT(worst, 1e-10);
+    EXPECT_NEAR(vout, v0, 0.02 * v0);
+    EXPECT_LT(vperp, 1e-10 * v0);
+    EXPECT_EQ(l.equal("f_tool[5]"), 0.0);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   STL errors reach the user as LAMMPS errors naming the file and the problem
+------------------------------------------------------------------------- */
+
+TEST(StlErrors, ThroughTheFix)
+{
+  {
+    std::ofstream("malformed.stl") << "solid bad\n facet normal 0 0 1\n  outer lop\n";
+    std::ofstream("empty.stl");
+    // one facet in the z = 0 plane, counter-clockwise seen from +z, stored normal -z
+    std::ofstream("flipped.stl") << "solid flipped\n facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n"
+                                    "   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid flipped\n";
+    write_box("above.stl", {-0.01, -0.01, 0.001}, {0.01, 0.0, 0.002});    // misses z = 0
+    std::vector<double> tri = box_triangles(std::vector<double>{-0.01, -0.01, -0.01}.data(),
+                                            std::vector<double>{0.01, 0.0, 0.01}.data());
+    sphcut::write_stl_binary("truncated.stl", tri);
+    std::string data;
+    {
+      std::ifstream in("truncated.stl", std::ios::binary);
+      data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    }
+    std::ofstream("truncated.stl", std::ios::binary).write(data.data(), (std::streamsize) data.size() - 20);
+  }
+  for (int dim : {3, 2}) {
+    Lammps l;
+    const double x0[3] = {0.0, 0.005, 0.0};
+    one_particle(l, dim, x0);
+    const std::string fix = "fix tool all contact/tri-penalty stl ";
+    EXPECT_TRUE(l.error_contains(fix + "malformed.stl", "STL file 'malformed.stl': line 3: expected 'loop', got 'lop'"));
+    EXPECT_TRUE(l.error_contains(fix + "empty.stl", "STL file 'empty.stl': empty file"));
+    EXPECT_TRUE(l.error_contains(fix + "nosuch.stl", "STL file 'nosuch.stl': cannot open"));
+    EXPECT_TRUE(l.error_contains(fix + "flipped.stl", "facet 0: stored normal (0 0 -1) disagrees with its vertex winding"));
+    EXPECT_TRUE(l.error_contains(fix + "truncated.stl", "STL file 'truncated.stl'"));
+    if (dim == 2)
+      EXPECT_TRUE(l.error_contains(fix + "above.stl", "no facet crosses the plane z = 0 (2D section is empty)"));
+    else
+      l.cmd(fix + "above.stl");    // fine in 3D
+  }
+}
+
+/* ----------------------------------------------------------------------
+   moving tool: a rigid plate pushes a 2D elastic strip (40 x 4 particles, y periodic,
+   the far 3 rows clamped) at 0.2 m/s.  Periodic in y and plane strain (LAMMPS 2D) the strip
+   is laterally confined, eps_yy = eps_zz = 0: uniaxial strain, sigma_xx = M eps_xx with the
+   constrained (P-wave) modulus M = E (1 - nu)/((1 + nu)(1 - 2 nu)), uniform along the
+   strip and without end effects at the clamp.  E/(1 - nu^2) would be plane strain with free
+   lateral faces, E plane stress: neither applies here.  Strain = front-row displacement /
+   distance front row - first clamped row; F is fitted through the origin over the second
+   half of the push (the elastic waves, 30 transits, average out).  The contact penetration
+   under load is F / (ny k), k = PFAC E.
+------------------------------------------------------------------------- */
+
+TEST(MovingTool, PlatePushesConfinedStrip)
+{
+  const int nx = 40, ny = 4;
+  const double E = 200e9, nu = 0.3, V = 0.2;
+  const double M = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+  const double height = ny * DP, L0 = (nx - 3) * DP;
+  write_box("push.stl", {-0.01, -0.01, -0.001}, {-RC, 0.02, 0.001});
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f p p", "atom_style atomic", "atom_modify map array",
+          "lattice sq 1e-3", "region box block -20 50 0 " + std::to_string(ny) + " -0.5 0.5", "create_box 1 box",
+          "region blk block -0.01 " + num(nx - 0.99) + " 0 " + std::to_string(ny) + " -0.5 0.5",
+          "create_atoms 1 region blk", "mass 1 " + num(RHO * DP * DP),
+          "region cl block " + num(nx - 3.01) + " INF INF INF INF INF", "group clamp region cl",
+          "region fr block INF 0.01 INF INF INF INF", "group front region fr", "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal clamp clamp cfl 0.3",
+          "fix tool all contact/tri-penalty stl push.stl velocity " + num(V) + " 0 0 dfac 0.5",
+          "variable uf equal xcm(front,x)", "run 0"});
+  ASSERT_EQ(l.lmp->atom->natoms, nx * ny);
+  double sfe = 0.0, see = 0.0, worst_pen = 0.0;
+  double F = 0.0, eps = 0.0;
+  for (int s = 1; s <= 20; s++) {
+    l.cmd("run 200 pre no post no");
+    F = -l.equal("f_tool[1]");
+    const double uf = l.equal("v_uf");
+    eps = uf / L0;
+    if (s > 10) {
+      sfe += F * eps;
+      see += eps * eps;
+    }
+    // the plate is ahead of the front row by the contact penetration F / (ny k)
+    const double pen = l.equal("f_tool[8]") - uf, pen_est = F / (ny * E);
+    if (s > 10) worst_pen = std::max(worst_pen, fabs(pen - pen_est) / pen_est);
+  }
+  const double Mfit = sfe / see / height;
+  const double transits = l.lmp->update->atime * sqrt(M / RHO) / L0;
+  std::printf("[ push     ] strain %.3e, F %.5g N/m, M H eps %.5g N/m; fitted modulus %.4g GPa, "
+              "M %.4g GPa (%+.2f %%), %.0f wave transits; penetration vs F/(ny k) %.2f %%\n",
+              eps, F, M * height * eps, Mfit / 1e9, M / 1e9, 100 * (Mfit - M) / M, transits, 100 * worst_pen);
+  EXPECT_GT(transits, 20.0);
+  EXPECT_GT(eps, 1.0e-3);
+  EXPECT_NEAR(Mfit, M, 0.03 * M);
+  EXPECT_LT(worst_pen, 0.02);
+  EXPECT_EQ(l.equal("f_tool[5]"), ny);    // only the front row touches the plate
+  EXPECT_NEAR(l.equal("f_tool[8]"), V * l.lmp->update->atime, 1e-12);
+}
+
+/* ----------------------------------------------------------------------
+   friction heat: a particle slides on the plate with mu 0.3, eta 1.  The friction work is
+   the kinetic energy it loses (the normal motion is at equilibrium, gravity does no work);
+   the heat budget (elements 6 + 7), the time integral of the friction power (element 4)
+   and the temperature rise sum m cp dT all equal it within 1 %.
+   Split auto with tool particles: the tool takes e_t/(e_t + e_w), e = sqrt(k rho cp)
+   (k 0.04 vs 0.01 W/m/K: 2/3), spread with kernel weights over tool particles within 2h
+   of the particle; the conductivities are small so conduction moves < 1e-5 of the heat.
+------------------------------------------------------------------------- */
+
+namespace {
+
+void heat_scene(Lammps &l, bool tool_particles, const std::string &contact_extra)
+{
+  const double g = 1000.0, E = 1.0e6;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3", "create_box 2 box",
+          "create_atoms 1 single 0 " + num(RC - RHO * DP * DP * g / E) + " 0 units box",
+          "mass * " + num(RHO * DP * DP), "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 1e6 nu 0.3 hdx 1.3 cp 477 k 0.01",
+          "pair_coeff 2 2 rho0 7800 E 1e6 nu 0.3 h 1.3e-3 cp 477 k 0.04"});
+  if (tool_particles) {
+    // two rows of rigid tool particles under the plate surface, x in [-10, 10] mm
+    l.cmds({"lattice sq 1e-3", "region tl block -10.01 10.01 -2.01 -0.99 -0.5 0.5",
+            "create_atoms 2 region tl", "group toolp type 2",
+            "fix sph all sph/jc-thermal tool toolp"});
+  } else {
+    l.cmd("fix sph all sph/jc-thermal");
+  }
+  l.cmds({"group work type 1", "fix heat all heat/fmfs", "fix g work gravity " + num(g) + " vector 0 -1 0",
+          "timestep 5e-6", "velocity work set 1 0 0 units box",
+          "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu 0.3 eta 1 heat heat " + contact_extra,
+          "fix pw all vector 1 f_tool[4]", "run 0"});
+}
+
+// sum m cp T over the particles of one type (serial test: all atoms are local)
+double heat_content(Lammps &l, int type)
+{
+  auto *atom = l.lmp->atom;
+  auto *sph = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  double e = 0.0;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->type[i] == type) e += atom->mass[type] * 477.0 * sph->array_atom[i][11];    // column TEMP
+  return e;
+}
+
+}    // namespace
+
+TEST(FrictionHeat, BudgetEqualsFrictionWork)
+{
+  write_plate();
+  Lammps l;
+  heat_scene(l, false, "split 1");
+  const double m = RHO * DP * DP;
+  const double e0 = heat_content(l, 1);
+  const double v0 = vel(l, 1)[0];
+  l.cmd("run 500");
+  const double v1 = vel(l, 1)[0];
+  const double work = 0.5 * m * (v0 * v0 - v1 * v1);
+  const double q = l.equal("f_tool[6]") + l.equal("f_tool[7]");
+  const double integral = l.equal("trap(f_pw)") * 5e-6;    // trapezoidal rule over steps 0..500
+  const double de = heat_content(l, 1) - e0;
+  std::printf("[ heat     ] friction work (kinetic energy lost) %.6e J/m, heat budget %.6e (%+.2e), "
+              "int P dt %.6e (%+.2e), sum m cp dT %.6e (%+.2e)\n",
+              work, q, (q - work) / work, integral, (integral - work) / work, de, (de - work) / work);
+  EXPECT_GT(v1, 0.1);
+  EXPECT_NEAR(q, integral, 0.01 * integral);
+  EXPECT_NEAR(q, work, 0.01 * work);
+  EXPECT_NEAR(de, work, 0.01 * work);
+  EXPECT_NEAR(l.equal("f_heat[4]"), q, 1e-9 * q);    // heat/fmfs counted the same source
+  EXPECT_EQ(l.equal("f_tool[14]"), 0.0);
+}
+
+TEST(FrictionHeat, SplitAutoToToolParticles)
+{
+  write_plate();
+  Lammps l;
+  heat_scene(l, true, "tool_particles toolp");    // split auto is the default with tool_particles
+  const double m = RHO * DP * DP;
+  const double ew0 = heat_content(l, 1), et0 = heat_content(l, 2);
+  const double v0 = vel(l, 1)[0];
+  l.cmd("run 500");
+  const double v1 = vel(l, 1)[0];
+  const double work = 0.5 * m * (v0 * v0 - v1 * v1);
+  const double qw = l.equal("f_tool[6]"), qt = l.equal("f_tool[7]");
+  const double dew = heat_content(l, 1) - ew0, det = heat_content(l, 2) - et0;
+  const double share = sqrt(0.04) / (sqrt(0.04) + sqrt(0.01));
+  // tool particles out of reach (2h) of the particle's path (x in [0, 1.6] mm) get no friction heat
+  double far = 0.0, near = 0.0;
+  auto *atom = l.lmp->atom;
+  auto *sph = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (atom->type[i] != 2) continue;
+    const double dT = sph->array_atom[i][11] - 300.0;
+    if (atom->x[i][0] < -2.0 * H - 1e-9 || atom->x[i][0] > 2.0e-3 + 2.0 * H) far = std::max(far, fabs(dT));
+    else near = std::max(near, dT);
+  }
+  std::printf("[ heat     ] split auto: tool share %.6f (effusivity ratio %.6f), workpiece dE %.6e vs %.6e, "
+              "tool dE %.6e vs %.6e, friction work %.6e; far tool particles dT %.1e K, near %.2e K\n",
+              qt / (qw + qt), share, dew, qw, det, qt, work, far, near);
+  EXPECT_NEAR(qt / (qw + qt), share, 1e-12);
+  EXPECT_NEAR(qw + qt, work, 0.01 * work);
+  EXPECT_NEAR(dew, qw, 0.01 * qw);
+  EXPECT_NEAR(det, qt, 0.01 * qt);
+  EXPECT_GT(near, 0.0);
+  EXPECT_LT(far, 1e-5 * near);    // conduction only (k = 0.04 W/m/K)
+  EXPECT_EQ(l.equal("f_tool[14]"), 0.0);
+}
+
+// heat accounting without tool particles: split 0.4 with a lumped tool (tool_cp C T0): the
+// tool share 0.6 q raises the tool temperature (element 11) by 0.6 q / C; without a heat fix
+// the workpiece share is not assigned (element 14), with neither the whole heat is
+TEST(FrictionHeat, LumpedToolAndUnassigned)
+{
+  write_plate();
+  const double m = RHO * DP * DP, C = 0.01;
+  struct Case {
+    bool heatfix;
+    std::string extra;
+  };
+  for (const Case &c : {Case{true, "split 0.4 tool_cp 0.01 300"}, Case{false, "split 0.4 tool_cp 0.01 300"},
+                        Case{false, ""}}) {
+    Lammps l;
+    heat_scene(l, false, c.extra);
+    if (!c.heatfix) l.cmds({"unfix tool", "unfix heat",
+                            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu 0.3 eta 1 " + c.extra});
+    const double e0 = heat_content(l, 1);
+    const double v0 = vel(l, 1)[0];
+    l.cmd("run 500");
+    const double v1 = vel(l, 1)[0];
+    const double work = 0.5 * m * (v0 * v0 - v1 * v1);
+    const double qw = l.equal("f_tool[6]"), qt = l.equal("f_tool[7]"), lost = l.equal("f_tool[14]");
+    const double ttool = l.equal("f_tool[11]"), de = heat_content(l, 1) - e0;
+    std::printf("[ heat     ] %s %-27s: workpiece %.5e (dE %.5e), tool %.5e (T %.6f K), not assigned %.5e, "
+                "friction work %.5e J/m\n",
+                c.heatfix ? "heat/fmfs" : "no heat  ", c.extra.c_str(), qw, de, qt, ttool, lost, work);
+    EXPECT_NEAR(qw + qt + lost, work, 0.01 * work);
+    if (c.extra.empty()) {
+      EXPECT_EQ(qw + qt, 0.0);
+      EXPECT_EQ(ttool, 0.0);
+    } else {
+      EXPECT_NEAR(qt, 0.6 * (qw + qt + lost), 1e-12 * work);
+      EXPECT_NEAR(ttool, 300.0 + qt / C, 1e-9 * 300.0);
+      if (c.heatfix) {
+        EXPECT_EQ(lost, 0.0);
+        EXPECT_NEAR(de, qw, 0.01 * qw);
+      } else {
+        EXPECT_EQ(qw, 0.0);
+        EXPECT_NEAR(lost, 0.4 / 0.6 * qt, 1e-12 * work);
+        EXPECT_EQ(de, 0.0);
+      }
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   tool output and the insert generator through the fix
+------------------------------------------------------------------------- */
+
+// write N FILE: the current (moved) geometry; 3D STL read back = the plate + displacement
+TEST(Output, WriteMovedToolGeometry)
+{
+  write_plate();
+  Lammps l;
+  const double x0[3] = {0.0, 0.005, 0.0};
+  one_particle(l, 3, x0);
+  l.cmds({"fix tool all contact/tri-penalty stl plate.stl velocity 1 -2 0.5 write 10 tool_*.stl", "run 20"});
+  const std::vector<double> tri = sphcut::read_stl("tool_20.stl");
+  const std::vector<double> ref = sphcut::read_stl("plate.stl");
+  ASSERT_EQ(tri.size(), ref.size());
+  const double t = 20 * 5e-6, d[3] = {1.0 * t, -2.0 * t, 0.5 * t};
+  double err = 0.0;
+  for (size_t k = 0; k < tri.size(); k++) err = std::max(err, fabs(tri[k] - ref[k] - d[k % 3]));
+  EXPECT_LT(err, 1e-15);
+  EXPECT_NEAR(l.equal("f_tool[8]"), d[0], 1e-18);
+  EXPECT_NEAR(l.equal("f_tool[9]"), d[1], 1e-18);
+  EXPECT_NEAR(l.equal("f_tool[10]"), d[2], 1e-18);
+  std::ifstream in("tool_0.stl");
+  EXPECT_TRUE(in.good());    // written at the setup too
+}
+
+// insert generator (sphcut_stl.h convention): the rake face faces -x, tilted by the rake
+// angle: outward normal (-cos g, sin g).  A particle thrown at the rake face 1 mm above the
+// (sharp) tip is pushed back along that normal, in 2D (section) and 3D (extruded insert).
+TEST(Insert, RakeFaceNormal)
+{
+  const double gam = 8.0 * PI / 180.0;
+  const double nr[3] = {-cos(gam), sin(gam), 0.0}, up[3] = {sin(gam), cos(gam), 0.0};
+  for (int dim : {2, 3}) {
+    Lammps l;
+    const double s = 1.0e-3, d0 = RC + 2.0e-4, v0 = 2.0;
+    const double x0[3] = {s * up[0] + d0 * nr[0], s * up[1] + d0 * nr[1], 0.0};
+    one_particle(l, dim, x0);
+    l.cmds({"timestep 2e-6", "velocity all set " + num(-v0 * nr[0]) + " " + num(-v0 * nr[1]) + " 0 units box",
+            std::string("fix tool all contact/tri-penalty insert rake 8 clearance 6 radius 0 rake_length 3e-3 "
+                        "flank_length 3e-3") + (dim == 3 ? " width 4e-3" : "") + " dfac 0 write 1000 insert.vtk"});
+    double worst = 0.0;
+    int ncontact = 0;
+    for (int k = 0; k < 60; k++) {
+      l.cmd("run 5 pre no post no");
+      const double *f = fcontact(l, 1);
+      const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+      if (fl == 0.0) continue;
+      ncontact++;
+      for (int a = 0; a < 3; a++) worst = std::max(worst, fabs(f[a] / fl - nr[a]));
+    }
+    const double *v = vel(l, 1);
+    const double vout = v[0] * nr[0] + v[1] * nr[1];
+    std::printf("[ insert   ] %dD rake face hit: %d samples in contact, max |f/|f| - n_rake| %.2e, rebound %.5f v0\n", dim,
+                ncontact, worst, vout / v0);
+    EXPECT_GT(ncontact, 3);
+    EXPECT_LT(worst, 1e-12);
+    EXPECT_NEAR(vout, v0, 0.02 * v0);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   bad input
+------------------------------------------------------------------------- */
+
+TEST(BadInput, ContactFix)
+{
+  write_plate();
+  Lammps l;
+  const double x0[3] = {0.0, 0.005, 0.0};
+  one_particle(l, 2, x0);
+  const std::string fix = "fix tool all contact/tri-penalty ";
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl colour red", "unknown keyword colour"));
+  EXPECT_TRUE(l.error_contains(fix + "mu 0.3", "no tool geometry (keyword stl or insert)"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl mu -1", "mu must be >= 0, got -1"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl write 10 tool.txt", "write file tool.txt must end in .vtk or .stl"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl write 10 tool.stl",
+                               "write file tool.stl: a 2D tool (segments) can only be written as .vtk"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl eta 2", "eta must be in [0,1], got 2"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl pfac 0", "pfac must be > 0, got 0"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl split auto", "split auto needs tool_particles"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl scale 2 insert rake 5 clearance 7 radius 0 rake_length 1e-3 "
+                                     "flank_length 1e-3",
+                               "scale and rotate apply to stl tools only"));
+  EXPECT_TRUE(l.error_contains(fix + "stl", "keyword stl needs 1 value(s)"));
+  EXPECT_TRUE(l.error_contains(fix + "insert rake 5 clearance x radius 0 rake_length 1e-3 flank_length 1e-3",
+                               "Expected floating point parameter instead of 'x'"));
+  EXPECT_TRUE(l.error_contains(fix + "insert rake 50 clearance 45 radius 0 rake_length 1e-3 flank_length 1e-3",
+                               "wedge angle 90 - alpha - gamma must be positive"));
+  // checked at init
+  l.cmds({fix + "stl plate.stl velocity v_vx 0 0"});
+  EXPECT_TRUE(l.error_contains("run 0", "velocity variable vx does not exist"));
+  l.cmds({"unfix tool", "fix g all gravity 1 vector 0 -1 0", fix + "stl plate.stl heat g"});
+  EXPECT_TRUE(l.error_contains("run 0", "fix g is not of style heat/fmfs"));
+  l.cmds({"unfix tool", fix + "stl plate.stl heat nofix"});
+  EXPECT_TRUE(l.error_contains("run 0", "heat fix nofix does not exist"));
+  l.cmds({"unfix tool", "variable vx atom x", fix + "stl plate.stl velocity v_vx 0 0"});
+  EXPECT_TRUE(l.error_contains("run 0", "velocity variable vx is not equal-style"));
+  l.cmds({"unfix tool", fix + "stl plate.stl mu v_m tvar T"});
+  EXPECT_TRUE(l.error_contains("run 0", "mu variable m does not exist or is not equal-style"));
+}
