@@ -53,7 +53,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     mustyle(MU_CONST), mu0(0.0), mu_ivar(-1), mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
     toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
     work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
-    ncontact(0), tool_work(0.0), power_prev(0.0), fcontact(nullptr), qbuf(nullptr), nmax_buf(0),
+    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), fcontact(nullptr), vcont(nullptr), qbuf(nullptr), nmax_buf(0),
     list(nullptr), fix(nullptr), pair(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
@@ -292,7 +292,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   MPI_Bcast(elem.data(), (int) n, MPI_DOUBLE, 0, world);
 
   vector_flag = 1;
-  size_vector = 14;
+  size_vector = 15;
   global_freq = 1;
   extvector = 0;
   peratom_flag = 1;
@@ -303,15 +303,23 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   nevery = 1;
   dynamic_group_allow = 0;
 
+  restart_peratom = 1;
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
-  for (int i = 0; i < atom->nlocal; i++) fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+  atom->add_callback(Atom::RESTART);
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 4; k++) {
+      if (k < 3) fcontact[i][k] = 0.0;
+      vcont[i][k] = 0.0;
+    }
 }
 
 FixContactTriPenalty::~FixContactTriPenalty()
 {
   atom->delete_callback(id, Atom::GROW);
+  atom->delete_callback(id, Atom::RESTART);
   memory->destroy(fcontact);
+  memory->destroy(vcont);
   memory->destroy(qbuf);
 }
 
@@ -419,7 +427,6 @@ void FixContactTriPenalty::setup(int vflag)
 {
   update_tool_velocity();
   post_force(vflag);
-  power_prev = work_rate;
   if (write_every) write_geometry();
 }
 
@@ -462,6 +469,10 @@ void FixContactTriPenalty::post_force(int)
   const sphcut::TriBinView view = bins.view();
   const int dim = domain->dimension;
   const double dt = update->dt;
+  // the time step the friction floor is based on: this step's, or at the setup of a continued
+  // run the one of the last step (the adaptive dt has moved on since), so that forces repeat
+  if (!update->setupflag || dt_last <= 0.0) dt_last = dt;
+  const double dt_force = dt_last;
 
   if (toolbit) {
     if (nall > nmax_buf) {
@@ -472,13 +483,27 @@ void FixContactTriPenalty::post_force(int)
     for (int i = 0; i < nall; i++) qbuf[i] = 0.0;
   }
   for (int k = 0; k < 3; k++) ftool[k] = 0.0;
-  fric_power = work_rate = maxpen = 0.0;
+  fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
   int cand[MAXCAND];
 
+  // energy over the step with the weights of velocity Verlet: the particle gains
+  // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
+  // First the F^n half, with the contact forces of the previous step.
+  double w_old = 0.0, d_old = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int k = 0; k < dim; k++) {
+      w_old += fcontact[i][k] * vtool[k];
+      d_old += fcontact[i][k] * (vtool[k] - atom->v[i][k]);
+    }
+
   for (int i = 0; i < nlocal; i++) {
     fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+    if (!update->setupflag) {
+      for (int k = 0; k < 3; k++) vcont[i][k] = atom->v[i][k];
+      vcont[i][3] = 1.0;
+    }
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const int it = type[i];
     const double h = pair->smoothing_length(it);
@@ -505,9 +530,15 @@ void FixContactTriPenalty::post_force(int)
     in.d = nvert == 3 ? sphcut::contact_normal(xt, e, e + 3, e + 6, bestq, bestreg, 0, in.n)
                       : sphcut::contact_normal_segment(xt, e, e + 3, bestq, bestreg, 0, in.n);
     if (0.5 * h / sfac - in.d <= 0.0) continue;
+    // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
+    // run (restart, or a second run with unchanged velocities) the one of the last step
+    const double *vuse = atom->v[i];
+    if (update->setupflag && vcont[i][3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
+        atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2])
+      vuse = vcont[i];
     for (int k = 0; k < 3; k++) {
       in.x[k] = x[i][k];
-      in.v[k] = st[i][F::VEST + k];
+      in.v[k] = vuse[k];
       in.vtool[k] = vtool[k];
       in.q[k] = bestq[k] + disp[k];
     }
@@ -531,7 +562,7 @@ void FixContactTriPenalty::post_force(int)
     // tool speed, 0 for a fixed tool) makes the friction of a sticking particle flip sign every
     // step and amplifies round-off (chatter)
     if (in.mu > 0.0 && out.fn > 0.0) {
-      const double vstab = in.mu * out.fn * dt / in.mass;
+      const double vstab = in.mu * out.fn * dt_force / in.mass;
       if (in.v_reg < vstab) {
         in.v_reg = vstab;
         sphcut::penalty_contact(in, out);
@@ -544,6 +575,8 @@ void FixContactTriPenalty::post_force(int)
       fcontact[i][k] = out.f[k];
       ftool[k] -= out.f[k];
       work_rate += out.f[k] * vtool[k];
+      // friction + dashpot (+ spring) power
+      diss_rate += out.f[k] * (vtool[k] - atom->v[i][k]);
     }
     fric_power += out.fric_power;
 
@@ -607,8 +640,10 @@ void FixContactTriPenalty::post_force(int)
     for (int i = 0; i < nlocal; i++)
       if ((mask[i] & toolbit) && qbuf[i] > 0.0) heat->add_heat(i, qbuf[i]);
   }
-  if (!update->setupflag) tool_work += 0.5 * dt * (power_prev + work_rate);
-  power_prev = work_rate;
+  if (!update->setupflag) {
+    tool_work += 0.5 * dt * (w_old + work_rate);
+    contact_diss += 0.5 * dt * (d_old + diss_rate);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -647,7 +682,9 @@ void FixContactTriPenalty::write_geometry()
    6 friction heat into the workpiece, 7 into the tool, 8-10 tool
    displacement, 11 lumped tool temperature, 12 max penetration relative
    to the contact radius, 13 work done by the tool, 14 friction heat not
-   assigned (no heat fix / tool particle)
+   assigned (no heat fix / tool particle), 15 energy dissipated at the contact
+   (friction and dashpot, sum F.(v_tool - v) integrated): work of the tool =
+   kinetic + internal energy change of the particles + this
 ------------------------------------------------------------------------- */
 
 double FixContactTriPenalty::compute_vector(int n)
@@ -664,7 +701,8 @@ double FixContactTriPenalty::compute_vector(int n)
     MPI_Allreduce(&maxpen, &res, 1, MPI_DOUBLE, MPI_MAX, world);
     return res;
   } else if (n == 12) loc = tool_work;
-  else loc = q_tool_lost;
+  else if (n == 13) loc = q_tool_lost;
+  else loc = contact_diss;
   MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
   return res;
 }
@@ -674,24 +712,54 @@ double FixContactTriPenalty::compute_vector(int n)
 void FixContactTriPenalty::grow_arrays(int nmax)
 {
   memory->grow(fcontact, nmax, 3, "contact:fcontact");
+  memory->grow(vcont, nmax, 4, "contact:vcont");
   array_atom = fcontact;
 }
 
 void FixContactTriPenalty::copy_arrays(int i, int j, int)
 {
   for (int k = 0; k < 3; k++) fcontact[j][k] = fcontact[i][k];
+  for (int k = 0; k < 4; k++) vcont[j][k] = vcont[i][k];
 }
 
+// per atom: contact force of the last step (3) and the velocity it used (3 + valid flag)
 int FixContactTriPenalty::pack_exchange(int i, double *buf)
 {
   for (int k = 0; k < 3; k++) buf[k] = fcontact[i][k];
-  return 3;
+  for (int k = 0; k < 4; k++) buf[3 + k] = vcont[i][k];
+  return 7;
 }
 
 int FixContactTriPenalty::unpack_exchange(int nlocal, double *buf)
 {
   for (int k = 0; k < 3; k++) fcontact[nlocal][k] = buf[k];
-  return 3;
+  for (int k = 0; k < 4; k++) vcont[nlocal][k] = buf[3 + k];
+  return 7;
+}
+
+int FixContactTriPenalty::pack_restart(int i, double *buf)
+{
+  buf[0] = 8;
+  pack_exchange(i, &buf[1]);
+  return 8;
+}
+
+void FixContactTriPenalty::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  unpack_exchange(nlocal, &extra[nlocal][m + 1]);
+}
+
+int FixContactTriPenalty::size_restart(int)
+{
+  return 8;
+}
+
+int FixContactTriPenalty::maxsize_restart()
+{
+  return 8;
 }
 
 int FixContactTriPenalty::pack_reverse_comm(int n, int first, double *buf)
@@ -707,13 +775,13 @@ void FixContactTriPenalty::unpack_reverse_comm(int n, int *list, double *buf)
 
 void FixContactTriPenalty::write_restart(FILE *fp)
 {
-  double loc[4] = {q_work, q_tool, q_tool_lost, tool_work}, tot[4];
-  MPI_Allreduce(loc, tot, 4, MPI_DOUBLE, MPI_SUM, world);
+  double loc[5] = {q_work, q_tool, q_tool_lost, tool_work, contact_diss}, tot[5];
+  MPI_Allreduce(loc, tot, 5, MPI_DOUBLE, MPI_SUM, world);
   if (comm->me == 0) {
-    double list[9] = {disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2], tot[3], power_prev};
-    int size = 9 * sizeof(double);
+    double list[10] = {disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2], tot[3], tot[4], dt_last};
+    int size = 10 * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 9, fp);
+    fwrite(list, sizeof(double), 10, fp);
   }
 }
 
@@ -727,9 +795,11 @@ void FixContactTriPenalty::restart(char *buf)
   q_tool = me0 ? list[5] : 0.0;
   q_tool_lost = me0 ? list[6] : 0.0;
   tool_work = me0 ? list[7] : 0.0;
+  contact_diss = me0 ? list[8] : 0.0;
+  dt_last = list[9];
 }
 
 double FixContactTriPenalty::memory_usage()
 {
-  return (double) atom->nmax * 3 * sizeof(double) + elem.size() * sizeof(double);
+  return (double) atom->nmax * 7 * sizeof(double) + elem.size() * sizeof(double);
 }

@@ -42,6 +42,10 @@ class FixContactTriPenalty : public Fix {
   void copy_arrays(int, int, int) override;
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
   void write_restart(FILE *) override;
@@ -85,8 +89,11 @@ class FixContactTriPenalty : public Fix {
   double ftool[3], fric_power, work_rate, q_work, q_tool, q_tool_lost, q_work_tool, maxpen;
   int ncontact;
   double tool_work;               // work done by the tool on the particles (cumulative)
-  double power_prev;              // tool power of the previous step (trapezoidal work)
-  double **fcontact;              // per-atom contact force
+  double diss_rate;               // contact dissipation rate sum F.(v_tool - v) of this step
+  double contact_diss;            // dissipated at the contact (friction, dashpot), cumulative
+  double dt_last;                 // time step of the last contact evaluation
+  double **fcontact;              // per-atom contact force (of the last step)
+  double **vcont;                 // per-atom velocity the contact used last step, valid flag
   double *qbuf;                   // tool heat to reverse communicate
   int nmax_buf;
   class NeighList *list;

@@ -1,27 +1,30 @@
 /* -*- c++ -*- ----------------------------------------------------------
    sphcut - the few LAMMPS API differences between the versions sphcut
    builds against.  SPHCUT_LAMMPS_VERSION (YYYYMMDD) comes from CMake.
-     29Sep2021: comm->forward_comm_fix(fix), comm->reverse_comm_pair(pair), ...
-     >= 2Aug2023 (also 4Feb2025, 4Jul2026): comm->forward_comm(fix), ...
+     29Sep2021: comm->forward_comm_fix(fix), comm->reverse_comm_pair(pair), ...,
+                neighbor->request() plus setting NeighRequest members
+     >= 24Mar2022: comm->forward_comm(this), comm->reverse_comm(this) and
+                neighbor->add_request(this, flags) (doc/src/Developer_updating.rst)
+   Checked with -fsyntax-only against 4Feb2025 and 4Jul2026 (Debian sources).
 ------------------------------------------------------------------------- */
 
 #ifndef SPHCUT_COMPAT_H
 #define SPHCUT_COMPAT_H
 
-#include "comm.h"
-#include "neighbor.h"
-#if SPHCUT_LAMMPS_VERSION < 20220803
-#include "neigh_request.h"
-#endif
-
 #ifndef SPHCUT_LAMMPS_VERSION
 #define SPHCUT_LAMMPS_VERSION 20210929
 #endif
 
+#include "comm.h"
+#include "neighbor.h"
+#if SPHCUT_LAMMPS_VERSION < 20220324
+#include "neigh_request.h"
+#endif
+
 namespace sphcut {
 
-// the overloaded comm->forward_comm(Fix *) etc. replaced the *_fix/_pair names in 2022
-#if SPHCUT_LAMMPS_VERSION >= 20220803
+// the overloaded comm->forward_comm(Fix *) etc. replaced the *_fix/_pair names in 24Mar2022
+#if SPHCUT_LAMMPS_VERSION >= 20220324
 template <class T> inline void forward_comm(LAMMPS_NS::Comm *comm, T *obj) { comm->forward_comm(obj); }
 template <class T> inline void reverse_comm(LAMMPS_NS::Comm *comm, T *obj) { comm->reverse_comm(obj); }
 #else
@@ -36,7 +39,7 @@ inline void forward_comm(LAMMPS_NS::Comm *comm, LAMMPS_NS::Compute *obj) { comm-
 template <class T> inline void request_full_list(LAMMPS_NS::Neighbor *neighbor, T *obj, int instance,
                                                  bool is_fix, bool occasional)
 {
-#if SPHCUT_LAMMPS_VERSION >= 20220803
+#if SPHCUT_LAMMPS_VERSION >= 20220324
   (void) instance;
   (void) is_fix;
   neighbor->add_request(obj, LAMMPS_NS::NeighConst::REQ_FULL |
