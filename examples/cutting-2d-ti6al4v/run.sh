@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Quick version of the 2D Ti6Al4V cut (make example): NY particles across the height
+# (default 11), CUT cut length in m (default 0.3e-3), NP MPI ranks (default: all cores).
+# The full case of the paper: NY=41 CUT=2e-3.  Run from an output folder.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+: "${LMP:?source build/env.sh first}"
+NY="${NY:-11}"; CUT="${CUT:-0.3e-3}"; NP="${NP:-$(nproc)}"
+mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut "$CUT" -var dumpevery 1000 \
+  -log log.cutting | awk '/^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time/{print}'
+# Debian's python3 has numpy and matplotlib (tools/build-deps.sh installs them)
+PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
+$PY "$here/steady.py"
+$PY "$here/plot.py" && echo "plots: forces.png temperature.png"

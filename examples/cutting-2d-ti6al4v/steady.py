@@ -1,0 +1,25 @@
+#!/usr/bin/env python3
+"""Steady-state cutting forces: mean Fc and Ft after 10 % of the cut (as seed 003 does),
+printed beside the experiment and the paper's SPH results.  Reads forces.dat."""
+EXP = (157.5, 104.2)
+PAPER = {"SPH reference thermal model, mu 0.35": (177.8, 92.9),
+         "SPH proposed thermal model, mu 0.35": (180.3, 89.0),
+         "SPH proposed thermal model, mu 0.65": (185.0, 103.5)}
+
+
+def main(path="forces.dat"):
+    rows = [[float(v) for v in l.split()[1:]] for l in open(path) if not l.startswith("#")]
+    lmax = max(r[1] for r in rows)
+    sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+    fc = sum(r[2] for r in sel) / len(sel)
+    ft = sum(r[3] for r in sel) / len(sel)
+    print(f"steady state over {0.1 * lmax:.3f}-{lmax:.3f} mm of cut ({len(sel)} samples)")
+    print(f"{'':44s} {'Fc [N/mm]':>10s} {'Ft [N/mm]':>10s}")
+    print(f"{'sphcut':44s} {fc:10.1f} {ft:10.1f}   ({100*(fc/EXP[0]-1):+.0f} %, {100*(ft/EXP[1]-1):+.0f} %)")
+    print(f"{'experiment':44s} {EXP[0]:10.1f} {EXP[1]:10.1f}")
+    for k, (a, b) in PAPER.items():
+        print(f"{k:44s} {a:10.1f} {b:10.1f}   ({100*(a/EXP[0]-1):+.0f} %, {100*(b/EXP[1]-1):+.0f} %)")
+
+
+if __name__ == "__main__":
+    main()
