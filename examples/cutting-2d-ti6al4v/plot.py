@@ -56,6 +56,9 @@ def main():
                marker="s", vmin=sc.get_clim()[0], vmax=sc.get_clim()[1])
     fig.colorbar(sc, label="temperature [K]")
     ax.set_aspect("equal")
+    if (~work).any():    # zoom on the cutting zone around the tool
+        xt = d["x"][~work].min() * 1e3
+        ax.set_xlim(xt - 0.6, xt + 0.35)
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_title(f"step {step}")

@@ -6,7 +6,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 : "${LMP:?source build/env.sh first}"
 NY="${NY:-11}"; CUT="${CUT:-0.3e-3}"; NP="${NP:-$(nproc)}"
-mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut "$CUT" -var dumpevery 1000 \
+mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut "$CUT" -var dumpevery 1000 -var thermoevery 4000 \
   -log log.cutting | awk '/^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time/{print}'
 # Debian's python3 has numpy and matplotlib (tools/build-deps.sh installs them)
 PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
