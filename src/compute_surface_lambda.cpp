@@ -69,20 +69,7 @@ ComputeSurfaceLambda::~ComputeSurfaceLambda()
 
 void ComputeSurfaceLambda::init()
 {
-  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
-  if (!pair) error->all(FLERR, "Compute surface/lambda requires pair_style sph/jc-thermal");
-  fix = pair->state_fix();
-  if (!fix) {
-    for (int i = 0; i < modify->nfix; i++)
-      if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
-        fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
-  }
-  if (!fix) error->all(FLERR, "Compute surface/lambda requires fix sph/jc-thermal");
-  int bad = 0, gbad = 0;
-  for (int i = 0; i < atom->nlocal; i++)
-    if ((atom->mask[i] & groupbit) && !(atom->mask[i] & fix->groupbit)) bad = 1;
-  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, world);
-  if (gbad) error->all(FLERR, "Compute surface/lambda: group {} has atoms outside the group of fix sph/jc-thermal", group->names[igroup]);
+  fix = FixSPHJCThermal::require(lmp, "Compute surface/lambda", groupbit, group->names[igroup], &pair);
   // perpetual full list: the flags are needed every step by fix heat/fmfs
   sphcut::request_full_list(neighbor, this, instance_me, false, false);
 }

@@ -340,18 +340,7 @@ double FixContactTriPenalty::contact_radius_max() const
 
 void FixContactTriPenalty::init()
 {
-  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
-  if (!pair) error->all(FLERR, "Fix contact/tri-penalty requires pair_style sph/jc-thermal");
-  fix = nullptr;
-  for (int i = 0; i < modify->nfix; i++)
-    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
-      fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
-  if (!fix) error->all(FLERR, "Fix contact/tri-penalty requires fix sph/jc-thermal");
-  int bad = 0, gbad = 0;
-  for (int i = 0; i < atom->nlocal; i++)
-    if ((atom->mask[i] & groupbit) && !(atom->mask[i] & fix->groupbit)) bad = 1;
-  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, world);
-  if (gbad) error->all(FLERR, "Fix contact/tri-penalty: group {} has atoms outside the group of fix sph/jc-thermal", group->names[igroup]);
+  fix = FixSPHJCThermal::require(lmp, "Fix contact/tri-penalty", groupbit, group->names[igroup], &pair);
   heat = nullptr;
   if (!id_heat.empty()) {
     const int ih = modify->find_fix(id_heat);

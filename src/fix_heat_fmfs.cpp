@@ -129,28 +129,16 @@ int FixHeatFMFS::setmask()
 
 void FixHeatFMFS::init()
 {
-  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
-  if (!pair) error->all(FLERR, "Fix heat/fmfs requires pair_style sph/jc-thermal");
-  int ifix = -1, ime = -1;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal")) ifix = i;
-    if (modify->fix[i] == this) ime = i;
-  }
-  if (ifix < 0) error->all(FLERR, "Fix heat/fmfs requires fix sph/jc-thermal");
+  fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &pair);
   // Dirichlet temperatures are imposed after the temperature update of that fix
-  if (ime < ifix) error->all(FLERR, "Fix heat/fmfs must be defined after fix sph/jc-thermal");
-  fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[ifix]);
-  int ninst = 0;
-  for (int i = 0; i < modify->nfix; i++)
+  int ifix = -1, ime = -1, ninst = 0;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (modify->fix[i] == fix) ifix = i;
+    if (modify->fix[i] == this) ime = i;
     if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) ninst++;
+  }
+  if (ime < ifix) error->all(FLERR, "Fix heat/fmfs must be defined after fix sph/jc-thermal");
   if (ninst > 1) error->all(FLERR, "Fix heat/fmfs: only one instance is allowed, found {}", ninst);
-  // every particle of the group needs the SPH state
-  int bad = 0, gbad = 0;
-  for (int i = 0; i < atom->nlocal; i++)
-    if ((atom->mask[i] & groupbit) && !(atom->mask[i] & fix->groupbit)) bad = 1;
-  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, world);
-  if (gbad) error->all(FLERR, "Fix heat/fmfs: group {} has atoms outside the group of fix sph/jc-thermal", group->names[igroup]);
-
   surface = nullptr;
   if (id_surface) {
     const int ic = modify->find_compute(id_surface);

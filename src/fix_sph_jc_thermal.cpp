@@ -189,6 +189,27 @@ void FixSPHJCThermal::init()
 
 /* ---------------------------------------------------------------------- */
 
+FixSPHJCThermal *FixSPHJCThermal::require(LAMMPS *lmp, const std::string &who, int groupbit,
+                                          const char *gname, PairSPHJCThermal **pair)
+{
+  *pair = dynamic_cast<PairSPHJCThermal *>(lmp->force->pair_match("^sph/jc-thermal", 0));
+  if (!*pair) lmp->error->all(FLERR, "{} requires pair_style sph/jc-thermal", who);
+  FixSPHJCThermal *fix = nullptr;
+  for (int i = 0; i < lmp->modify->nfix; i++)
+    if (utils::strmatch(lmp->modify->fix[i]->style, "^sph/jc-thermal"))
+      fix = dynamic_cast<FixSPHJCThermal *>(lmp->modify->fix[i]);
+  if (!fix) lmp->error->all(FLERR, "{} requires fix sph/jc-thermal", who);
+  // every particle of the caller's group needs the SPH state
+  int bad = 0, gbad = 0;
+  for (int i = 0; i < lmp->atom->nlocal; i++)
+    if ((lmp->atom->mask[i] & groupbit) && !(lmp->atom->mask[i] & fix->groupbit)) bad = 1;
+  MPI_Allreduce(&bad, &gbad, 1, MPI_INT, MPI_MAX, lmp->world);
+  if (gbad) lmp->error->all(FLERR, "{}: group {} has atoms outside the group of fix sph/jc-thermal", who, gname);
+  return fix;
+}
+
+/* ---------------------------------------------------------------------- */
+
 void FixSPHJCThermal::reset_dt()
 {
   dtv = update->dt;

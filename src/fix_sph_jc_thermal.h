@@ -74,6 +74,10 @@ class FixSPHJCThermal : public Fix {
     return (mask & toolbit) ? TOOL : ((mask & clampbit) ? CLAMPED : WORKPIECE);
   }
   double dt_used() const { return dtv; }
+  // for the other sphcut styles: the pair style and this fix, or an error that names `who`
+  // (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
+  static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
+                                  const char *gname, PairSPHJCThermal **pair);
 
  protected:
   PairSPHJCThermal *pair;
