@@ -1,15 +1,21 @@
 /* ----------------------------------------------------------------------
    sphcut launcher: the LAMMPS main program, plus loading every plugin in
    the folders named by LAMMPS_PLUGIN_PATH (colon separated) before the
-   input is read.  LAMMPS versions from 2022 on do the latter themselves;
-   29Sep2021 does not, so `$LMP` from build/env.sh points here.
+   input is read.  LAMMPS >= 4May2022 does the latter itself (in the LAMMPS
+   constructor), so there this is just the plain main program; 29Sep2021
+   does not, so `$LMP` from build/env.sh points here.
 ------------------------------------------------------------------------- */
+
+// LAMMPS >= 15Jun2023 always throws exceptions and no longer has the define
+#if defined(LAMMPS_EXCEPTIONS) || (SPHCUT_LAMMPS_VERSION >= 20230615)
+#define SPHCUT_EXCEPTIONS
+#endif
 
 #include "accelerator_kokkos.h"
 #include "input.h"
 #include "lammps.h"
 #include "lmppython.h"
-#if defined(LAMMPS_EXCEPTIONS)
+#if defined(SPHCUT_EXCEPTIONS)
 #include "exceptions.h"
 #endif
 
@@ -24,6 +30,7 @@
 
 using namespace LAMMPS_NS;
 
+#if SPHCUT_LAMMPS_VERSION < 20220504
 static std::vector<std::string> plugins_in_path()
 {
   std::vector<std::string> found;
@@ -52,27 +59,39 @@ static std::vector<std::string> plugins_in_path()
   }
   return found;
 }
+#endif
 
 static void run(int argc, char **argv, MPI_Comm comm)
 {
   LAMMPS *lammps = new LAMMPS(argc, argv, comm);
+#if SPHCUT_LAMMPS_VERSION < 20220504
   for (const auto &p : plugins_in_path()) lammps->input->one(("plugin load " + p).c_str());
+#endif
   lammps->input->file();
   delete lammps;
 }
+
+#if defined(SPHCUT_EXCEPTIONS)
+// communicator to abort: a public member in older LAMMPS, get_universe() in newer (4Feb2025)
+template <class E> static auto abort_universe(const E &e, int) -> decltype(e.get_universe())
+{
+  return e.get_universe();
+}
+template <class E> static MPI_Comm abort_universe(const E &e, long) { return e.universe; }
+#endif
 
 int main(int argc, char **argv)
 {
   MPI_Init(&argc, &argv);
   MPI_Comm comm = MPI_COMM_WORLD;
   int rc = 0;
-#if defined(LAMMPS_EXCEPTIONS)
+#if defined(SPHCUT_EXCEPTIONS)
   try {
     run(argc, argv, comm);
   } catch (LAMMPSAbortException &ae) {
     KokkosLMP::finalize();
     Python::finalize();
-    MPI_Abort(ae.universe, 1);
+    MPI_Abort(abort_universe(ae, 0), 1);
   } catch (LAMMPSException &e) {
     rc = 1;
   }
