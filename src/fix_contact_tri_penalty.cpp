@@ -543,20 +543,16 @@ void FixContactTriPenalty::post_force(int)
     in.sfac = sfac;
     in.mu = friction_coefficient(st[i][F::TEMP_F]);
     in.v_reg = vreg;
+    // friction never more than the stick force: it cannot reverse the sliding in a step
+    // (no chatter at low sliding speed; full Coulomb while the particle slides)
+    double vr[3], vn = 0.0, vt2 = 0.0;
+    for (int k = 0; k < 3; k++) vr[k] = in.v[k] - in.vtool[k];
+    for (int k = 0; k < 3; k++) vn += vr[k] * in.n[k];
+    for (int k = 0; k < 3; k++) vt2 += (vr[k] - vn * in.n[k]) * (vr[k] - vn * in.n[k]);
+    in.ft_cap = vt2 > 0.0 ? in.mass * sqrt(vt2) / dt_force : 1.0e-300;
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) continue;
-    // stable friction regularisation: the viscous slope mu F_N / v_reg must be resolved by the
-    // time step (sphcut_contact.h), v_reg >= mu F_N dt / m; a smaller v_reg (default 1 % of the
-    // tool speed, 0 for a fixed tool) makes the friction of a sticking particle flip sign every
-    // step and amplifies round-off (chatter)
-    if (in.mu > 0.0 && out.fn > 0.0) {
-      const double vstab = in.mu * out.fn * dt_force / in.mass;
-      if (in.v_reg < vstab) {
-        in.v_reg = vstab;
-        sphcut::penalty_contact(in, out);
-      }
-    }
     ncontact++;
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
     for (int k = 0; k < dim; k++) {

@@ -323,6 +323,7 @@ struct ContactIn {
   double sfac = 1.2;                    // h = SFAC dp, eq. 9
   double mu = 0.0;                      // Coulomb friction coefficient, eq. 13
   double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
+  double ft_cap = 0.0;                  // largest friction force (> 0: the stick force m |v_t|/dt)
 };
 
 struct ContactOut {
@@ -354,11 +355,12 @@ struct ContactOut {
        oscillator's restitution exp(-pi z/sqrt(1-z^2)), z = DFAC.  The
        force vanishes with the penetration, so there is no static adhesion.
      v_t = v_rel - (v_rel.n) n, t = v_t/|v_t|                (eqs. 14-15)
-     F_T = -mu |F_N| min(1, |v_t|/v_reg) t                   (eq. 13)
-       linear regularisation below v_reg: no chattering at zero sliding
-       speed, F_T -> 0 continuously (v_reg <= 0: plain Coulomb).  The
-       viscous slope mu |F_N|/v_reg must be resolved by the time step,
-       dt < m v_reg/(mu |F_N|).
+     F_T = -min(mu |F_N| min(1, |v_t|/v_reg), F_cap) t         (eq. 13)
+       linear regularisation below v_reg: F_T -> 0 continuously at zero
+       sliding speed (v_reg <= 0: plain Coulomb).  F_cap (if > 0) is the
+       stick force m |v_t| / dt that stops the relative sliding within one
+       step: friction never reverses the sliding direction in a step (no
+       chattering), and a sliding particle gets full Coulomb friction.
      f = F_N + F_T                                           (eqs. 16-17)
 ------------------------------------------------------------------------- */
 
@@ -389,7 +391,8 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   out.vslide = vs;
   if (in.mu > 0.0 && fn > 0.0 && vs > 0.0) {    // no friction without compression
     const double ramp = (in.v_reg > 0.0 && vs < in.v_reg) ? vs / in.v_reg : 1.0;
-    const double ftmag = in.mu * fn * ramp;
+    double ftmag = in.mu * fn * ramp;
+    if (in.ft_cap > 0.0 && ftmag > in.ft_cap) ftmag = in.ft_cap;
     for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * vt[k] / vs;
     out.fric_power = ftmag * vs;
   }
