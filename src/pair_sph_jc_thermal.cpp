@@ -70,6 +70,11 @@ PairSPHJCThermal::~PairSPHJCThermal()
     memory->destroy(dp);
     delete[] mat;
   }
+  free_scratch();
+}
+
+void PairSPHJCThermal::free_scratch()
+{
   memory->destroy(sig);
   memory->destroy(rstress);
   memory->destroy(drho_acc);
@@ -108,13 +113,7 @@ void PairSPHJCThermal::grow_scratch(int n)
 {
   if (n <= nmax) return;
   nmax = n;
-  memory->destroy(sig);
-  memory->destroy(rstress);
-  memory->destroy(drho_acc);
-  memory->destroy(lgrad);
-  memory->destroy(bmat);
-  memory->destroy(du_acc);
-  memory->destroy(xs_acc);
+  free_scratch();
   memory->create(sig, nmax, 6, "pair:sig");
   memory->create(rstress, nmax, 6, "pair:rstress");
   memory->create(drho_acc, nmax, "pair:drho");

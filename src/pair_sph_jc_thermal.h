@@ -60,6 +60,7 @@ class PairSPHJCThermal : public Pair {
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);
   void grow_scratch(int);
+  void free_scratch();
 };
 
 }    // namespace LAMMPS_NS
