@@ -26,6 +26,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_thermal.h"
+#include "sphcut_timer.h"
 
 using namespace LAMMPS_NS;
 
@@ -87,6 +88,7 @@ void ComputeSurfaceLambda::init_list(int, NeighList *ptr)
 
 void ComputeSurfaceLambda::compute_peratom()
 {
+  sphcut::ScopedTimer timer(cpu_time);
   invoked_peratom = update->ntimestep;
   if (atom->nmax > nmax) {
     nmax = atom->nmax;

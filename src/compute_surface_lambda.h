@@ -33,6 +33,7 @@ class ComputeSurfaceLambda : public Compute {
   // for fix heat/fmfs: 1 if local atom i is a surface particle (valid after compute_peratom)
   int is_surface(int i) const { return out[i][FLAG] > 0.5; }
   double threshold;
+  double cpu_time = 0.0;    // wall time on this rank (sphcut timing table)
 
  private:
   int every;                  // recompute every this many steps (and after reneighboring)

@@ -34,6 +34,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_contact.h"
 #include "sphcut_kernels.h"
+#include "sphcut_timer.h"
 
 #include <cmath>
 #include <cstring>
@@ -444,6 +445,7 @@ double FixContactTriPenalty::friction_coefficient(double temp)
 
 void FixContactTriPenalty::post_force(int)
 {
+  sphcut::ScopedTimer timer(cpu_time);
   using F = FixSPHJCThermal;
   double **x = atom->x;
   double **f = atom->f;

@@ -55,6 +55,7 @@ class FixContactTriPenalty : public Fix {
   // the current tool geometry in the simulation frame (for output and tests)
   std::vector<double> current_elements() const;
   int element_vertices() const { return nvert; }
+  double cpu_time = 0.0;    // wall time of the contact on this rank (timing table)
 
  private:
   // geometry, in the tool frame; the tool translates by disp

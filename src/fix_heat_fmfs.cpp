@@ -24,6 +24,7 @@
 #include "fix_sph_jc_thermal.h"
 #include "force.h"
 #include "group.h"
+#include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
@@ -33,6 +34,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_thermal.h"
+#include "sphcut_timer.h"
 
 #include <cmath>
 #include <cstring>
@@ -49,7 +51,7 @@ static constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
 ------------------------------------------------------------------------- */
 
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), scheme(FMFS), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
+    Fix(lmp, narg, arg), scheme(FMFS), every(1), held(nullptr), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
     emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
     n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
 {
@@ -65,6 +67,11 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
       if (v == "fmfs") scheme = FMFS;
       else if (v == "brookshaw") scheme = BROOKSHAW;
       else error->all(FLERR, "Fix heat/fmfs: unknown scheme {} (fmfs, brookshaw)", v);
+      iarg += 2;
+    } else if (kw == "every") {
+      need(1);
+      every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (every < 1) error->all(FLERR, "Fix heat/fmfs: every must be >= 1, got {}", every);
       iarg += 2;
     } else if (kw == "fmfs_lambda") {
       need(1);
@@ -112,12 +119,17 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
   extvector = -1;
   extlist = new int[6]{1, 1, 1, 1, 1, 0};
   restart_global = 1;
+  grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
 }
 
 FixHeatFMFS::~FixHeatFMFS()
 {
   delete[] id_surface;
   delete[] extlist;
+  atom->delete_callback(id, Atom::GROW);
+  memory->destroy(held);
 }
 
 int FixHeatFMFS::setmask()
@@ -193,9 +205,25 @@ void FixHeatFMFS::setup(int vflag)
 
 void FixHeatFMFS::post_force(int)
 {
-  if (surface && surface->invoked_peratom != update->ntimestep) surface->compute_peratom();
-  if (domain->dimension == 2) conduction<2>();
-  else conduction<3>();
+  // thermal sub-cycling: the conduction and loss rates change on the thermal time scale,
+  // far longer than the mechanical time step, so they may be evaluated every N steps
+  const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
+  if (eval && surface && surface->invoked_peratom != update->ntimestep) surface->compute_peratom();
+  sphcut::ScopedTimer timer(cpu_time);
+  if (eval) {
+    if (domain->dimension == 2) conduction<2>();
+    else conduction<3>();
+  }
+  double **st = fix->state;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (atom->mask[i] & groupbit) st[i][FixSPHJCThermal::DTEMP] += held[i];
+  // losses over the step with the trapezoidal weights of the temperature update
+  if (!update->setupflag) {
+    q_conv += 0.5 * update->dt * (p_conv_prev + held_conv);
+    q_rad += 0.5 * update->dt * (p_rad_prev + held_rad);
+  }
+  p_conv_prev = held_conv;
+  p_rad_prev = held_rad;
 }
 
 template <int DIM> void FixHeatFMFS::conduction()
@@ -208,9 +236,9 @@ template <int DIM> void FixHeatFMFS::conduction()
   double **st = fix->state;
   const Material *mat = pair->materials();
   const int kernel = pair->kernel();
-  const double dt = update->dt;
   using F = FixSPHJCThermal;
   double p_conv = 0.0, p_rad = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
   const double sigma_sb = STEFAN_BOLTZMANN_SI;
   sphcut::FmfsAccum<DIM> acc;
 
@@ -281,15 +309,39 @@ template <int DIM> void FixHeatFMFS::conduction()
       p_rad += qr;
       dT -= (qc + qr) / (massi * mi.cp);
     }
-    st[i][F::DTEMP] += dT;
+    held[i] = dT;
   }
-  // losses over the step with the trapezoidal weights of the temperature update
-  if (!update->setupflag) {
-    q_conv += 0.5 * dt * (p_conv_prev + p_conv);
-    q_rad += 0.5 * dt * (p_rad_prev + p_rad);
-  }
-  p_conv_prev = p_conv;
-  p_rad_prev = p_rad;
+  held_conv = p_conv;
+  held_rad = p_rad;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixHeatFMFS::grow_arrays(int nmax)
+{
+  memory->grow(held, nmax, "heat/fmfs:held");
+}
+
+void FixHeatFMFS::copy_arrays(int i, int j, int)
+{
+  held[j] = held[i];
+}
+
+int FixHeatFMFS::pack_exchange(int i, double *buf)
+{
+  buf[0] = held[i];
+  return 1;
+}
+
+int FixHeatFMFS::unpack_exchange(int nlocal, double *buf)
+{
+  held[nlocal] = buf[0];
+  return 1;
+}
+
+double FixHeatFMFS::memory_usage()
+{
+  return (double) atom->nmax * sizeof(double);
 }
 
 /* ----------------------------------------------------------------------

@@ -39,15 +39,24 @@ class FixHeatFMFS : public Fix {
   void final_integrate() override;
   double compute_vector(int) override;
   void write_restart(FILE *) override;
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  double memory_usage() override;
   void restart(char *) override;
 
   // entry point for heat sources (fix contact/tri-penalty: friction heat):
   // add `power` (energy/time) to local atom i during post_force of this step
   void add_heat(int i, double power);
+  double cpu_time = 0.0;    // wall time on this rank, without the surface compute (timing table)
 
  private:
   enum { FMFS, BROOKSHAW };
   int scheme;
+  int every;                    // conduction and losses evaluated every this many steps
+  double *held;                 // per atom: their temperature rate, applied between evaluations
+  double held_conv, held_rad;   // loss rates of the last evaluation
   double fmfs_lambda;           // FMFS only where lambda (own support) >= this
   char *id_surface;
   ComputeSurfaceLambda *surface;

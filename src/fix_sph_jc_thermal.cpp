@@ -30,6 +30,11 @@
 
 #include "sphcut_compat.h"
 #include "sphcut_material.h"
+#include "sphcut_timer.h"
+
+#include "compute_surface_lambda.h"
+#include "fix_contact_tri_penalty.h"
+#include "fix_heat_fmfs.h"
 
 #include <cmath>
 #include <cstring>
@@ -276,6 +281,7 @@ void FixSPHJCThermal::setup_pre_force(int vflag)
 
 void FixSPHJCThermal::pre_force(int)
 {
+  sphcut::ScopedTimer timer(cpu_time);
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
     double *s = state[i];
@@ -306,6 +312,7 @@ void FixSPHJCThermal::predict(int i, const double *, const double *, const int *
 
 void FixSPHJCThermal::initial_integrate(int)
 {
+  sphcut::ScopedTimer timer(cpu_time);
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
@@ -353,6 +360,7 @@ void FixSPHJCThermal::initial_integrate(int)
 
 void FixSPHJCThermal::final_integrate()
 {
+  sphcut::ScopedTimer timer(cpu_time);
   double **v = atom->v;
   double **f = atom->f;
   const double *rmass = atom->rmass;
@@ -440,13 +448,70 @@ void FixSPHJCThermal::apply_dt(double dtnew)
 
 void FixSPHJCThermal::end_of_step()
 {
+  sphcut::ScopedTimer timer(cpu_time);
   apply_dt(stable_dt());
 }
 
 // the first step of a run already uses the stable time step
 void FixSPHJCThermal::setup(int)
 {
+  reset_timers();
   if (cfl > 0.0) apply_dt(stable_dt());
+}
+
+/* ----------------------------------------------------------------------
+   per-style timing table at the end of each run (max over the ranks):
+   what each piece of physics cost, and what the scene saved by leaving
+   a piece out
+------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::reset_timers()
+{
+  run_start = MPI_Wtime();
+  cpu_time = 0.0;
+  pair->cpu_time = 0.0;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (auto *h = dynamic_cast<FixHeatFMFS *>(modify->fix[i])) h->cpu_time = 0.0;
+    if (auto *c = dynamic_cast<FixContactTriPenalty *>(modify->fix[i])) c->cpu_time = 0.0;
+  }
+  for (int i = 0; i < modify->ncompute; i++)
+    if (auto *c = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[i])) c->cpu_time = 0.0;
+}
+
+void FixSPHJCThermal::post_run()
+{
+  if (update->nsteps <= 0) return;
+  std::vector<std::string> names = {"pair sph/jc-thermal", "fix sph/jc-thermal (integration)"};
+  std::vector<double> t = {pair->cpu_time, cpu_time};
+  for (int i = 0; i < modify->nfix; i++) {
+    if (auto *h = dynamic_cast<FixHeatFMFS *>(modify->fix[i])) {
+      names.push_back(std::string("fix heat/fmfs ") + h->id);
+      t.push_back(h->cpu_time);
+    }
+    if (auto *c = dynamic_cast<FixContactTriPenalty *>(modify->fix[i])) {
+      names.push_back(std::string("fix contact/tri-penalty ") + c->id);
+      t.push_back(c->cpu_time);
+    }
+  }
+  for (int i = 0; i < modify->ncompute; i++)
+    if (auto *c = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[i])) {
+      names.push_back(std::string("compute surface/lambda ") + c->id);
+      t.push_back(c->cpu_time);
+    }
+  t.push_back(MPI_Wtime() - run_start);
+  std::vector<double> tmax(t.size());
+  MPI_Allreduce(t.data(), tmax.data(), (int) t.size(), MPI_DOUBLE, MPI_MAX, world);
+  if (comm->me != 0) return;
+  const double total = tmax.back() > 0.0 ? tmax.back() : 1.0;
+  std::string msg = fmt::format("sphcut timing of this run (wall seconds, max over ranks; run {:.4g} s):\n", total);
+  double sum = 0.0;
+  for (size_t k = 0; k < names.size(); k++) {
+    msg += fmt::format("  {:<40s} {:10.4g} s {:6.1f} %\n", names[k], tmax[k], 100.0 * tmax[k] / total);
+    sum += tmax[k];
+  }
+  msg += fmt::format("  {:<40s} {:10.4g} s {:6.1f} %\n", "rest (neighbour lists, comm, output, other fixes)",
+                     total - sum, 100.0 * (total - sum) / total);
+  utils::logmesg(lmp, msg);
 }
 
 /* ----------------------------------------------------------------------

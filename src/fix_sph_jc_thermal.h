@@ -48,6 +48,7 @@ class FixSPHJCThermal : public Fix {
   void pre_force(int) override;
   void final_integrate() override;
   void end_of_step() override;
+  void post_run() override;
   void reset_dt() override;
   double compute_vector(int) override;
 
@@ -74,6 +75,7 @@ class FixSPHJCThermal : public Fix {
     return (mask & toolbit) ? TOOL : ((mask & clampbit) ? CLAMPED : WORKPIECE);
   }
   double dt_used() const { return dtv; }
+  double cpu_time = 0.0;      // wall time of the integration on this rank (timing table)
   // for the other sphcut styles: the pair style and this fix, or an error that names `who`
   // (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
   static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
@@ -94,6 +96,8 @@ class FixSPHJCThermal : public Fix {
   void predict(int i, const double *mass, const double *rmass, const int *type);
   double stable_dt();
   void apply_dt(double);
+  double run_start;           // wall clock at the setup of the run
+  void reset_timers();
 };
 
 }    // namespace LAMMPS_NS

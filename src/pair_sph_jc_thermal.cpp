@@ -33,6 +33,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_pair.h"
+#include "sphcut_timer.h"
 
 #include <cmath>
 #include <cstring>
@@ -370,6 +371,7 @@ double PairSPHJCThermal::init_one(int i, int j)
 
 void PairSPHJCThermal::compute(int eflag, int vflag)
 {
+  sphcut::ScopedTimer timer(cpu_time);
   ev_init(eflag, vflag);
 
   const int *type = atom->type;

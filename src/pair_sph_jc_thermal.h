@@ -43,6 +43,7 @@ class PairSPHJCThermal : public Pair {
   int kernel() const { return kernel_kind; }
   double spacing(int itype) const { return dp[itype]; }    // (m/rho0)^(1/d), set in init_style
   FixSPHJCThermal *state_fix() const { return fix; }
+  double cpu_time = 0.0;          // wall time of compute() on this rank (sphcut timing table)
 
  protected:
   int kernel_kind;

@@ -1,0 +1,28 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - per-style wall-clock timers: every sphcut style adds the time
+   of its work to its own cpu_time; fix sph/jc-thermal prints the table at
+   the end of each run, so a user sees what each piece of physics costs.
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_TIMER_H
+#define SPHCUT_TIMER_H
+
+#include <mpi.h>
+
+namespace sphcut {
+
+class ScopedTimer {
+ public:
+  explicit ScopedTimer(double &acc) : acc_(acc), t0_(MPI_Wtime()) {}
+  ~ScopedTimer() { acc_ += MPI_Wtime() - t0_; }
+  ScopedTimer(const ScopedTimer &) = delete;
+  ScopedTimer &operator=(const ScopedTimer &) = delete;
+
+ private:
+  double &acc_;
+  double t0_;
+};
+
+}    // namespace sphcut
+
+#endif
