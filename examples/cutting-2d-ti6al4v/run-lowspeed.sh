@@ -8,4 +8,4 @@ NY="${NY:-11}"; NP="${NP:-$(nproc)}"
 mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut 0.3e-3 -var vc 20 \
   -var dumpevery 0 -var thermoevery 20000 -log log.lowspeed | awk '/Loop time/{print}'
 PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
-$PY "$here/steady.py"
+$PY "$here/steady.py" --temperature

@@ -7,7 +7,7 @@ PAPER = {"SPH reference thermal model, mu 0.35": (177.8, 92.9),
          "SPH proposed thermal model, mu 0.65": (185.0, 103.5)}
 
 
-def main(path="forces.dat"):
+def main(path="forces.dat", temperature_only=False):
     rows = [[float(v) for v in l.split()[1:]] for l in open(path) if not l.startswith("#")]
     lmax = max(r[1] for r in rows)
     sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
@@ -15,14 +15,18 @@ def main(path="forces.dat"):
     ft = sum(r[3] for r in sel) / len(sel)
     trake = sum(r[5] for r in sel) / len(sel) if len(sel[0]) > 5 else float("nan")
     print(f"steady state over {0.1 * lmax:.3f}-{lmax:.3f} mm of cut ({len(sel)} samples)")
+    if temperature_only:
+        print(f"mean rake-face temperature {trake:.0f} K (low-speed case vc 20 m/min: measured about 680 K, "
+              f"paper's SPH 744 K); Fc {fc:.1f} N/mm, Ft {ft:.1f} N/mm")
+        return
     print(f"{'':44s} {'Fc [N/mm]':>10s} {'Ft [N/mm]':>10s}")
     print(f"{'sphcut':44s} {fc:10.1f} {ft:10.1f}   ({100*(fc/EXP[0]-1):+.0f} %, {100*(ft/EXP[1]-1):+.0f} %)")
     print(f"{'experiment':44s} {EXP[0]:10.1f} {EXP[1]:10.1f}")
     for k, (a, b) in PAPER.items():
         print(f"{k:44s} {a:10.1f} {b:10.1f}   ({100*(a/EXP[0]-1):+.0f} %, {100*(b/EXP[1]-1):+.0f} %)")
-    print(f"mean rake-face temperature {trake:.0f} K (low-speed case vc 20 m/min: measured about 680 K, "
-          f"paper's SPH 744 K)")
+    print(f"mean rake-face temperature {trake:.0f} K")
 
 
 if __name__ == "__main__":
-    main()
+    import sys
+    main(temperature_only="--temperature" in sys.argv)
