@@ -51,6 +51,27 @@ class Lammps {
   LAMMPS_NS::LAMMPS *lmp;
 };
 
+// closed box [lo, hi] as 12 triangles with outward normals (right-hand rule), for STL tools
+inline std::vector<double> box_triangles(const double *lo, const double *hi)
+{
+  double v[8][3];
+  for (int k = 0; k < 8; k++) {
+    v[k][0] = (k == 1 || k == 2 || k == 5 || k == 6) ? hi[0] : lo[0];
+    v[k][1] = (k == 2 || k == 3 || k == 6 || k == 7) ? hi[1] : lo[1];
+    v[k][2] = k >= 4 ? hi[2] : lo[2];
+  }
+  // quads counter-clockwise seen from outside: -z, +z, -y, +y, +x, -x
+  const int quad[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  std::vector<double> tri;
+  for (auto &q : quad)
+    for (int t = 0; t < 2; t++) {
+      const int c[3] = {q[0], q[1 + t], q[2 + t]};
+      for (int k : c)
+        for (int a = 0; a < 3; a++) tri.push_back(v[k][a]);
+    }
+  return tri;
+}
+
 }    // namespace sphcut_test
 
 #endif

@@ -27,18 +27,7 @@ void write_tool()
   if (me == 0) {
     const double rc = 0.5 * 1.3 * 2e-4 / 1.2;
     const double lo[3] = {rc, -8e-4, -1e-3}, hi[3] = {3e-3, 3e-3, 1e-3};
-    double v[8][3];
-    for (int k = 0; k < 8; k++) {
-      v[k][0] = (k == 1 || k == 2 || k == 5 || k == 6) ? hi[0] : lo[0];
-      v[k][1] = (k == 2 || k == 3 || k == 6 || k == 7) ? hi[1] : lo[1];
-      v[k][2] = k >= 4 ? hi[2] : lo[2];
-    }
-    const int quad[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
-    std::vector<double> tri;
-    for (auto &q : quad)
-      for (int t = 0; t < 2; t++)
-        for (int k : {q[0], q[1 + t], q[2 + t]})
-          for (int a = 0; a < 3; a++) tri.push_back(v[k][a]);
+    const std::vector<double> tri = sphcut_test::box_triangles(lo, hi);
     sphcut::write_stl_binary("cut.stl", tri);
   }
   MPI_Barrier(MPI_COMM_WORLD);
