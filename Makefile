@@ -13,9 +13,11 @@ all: build
 
 deps:
 	bash tools/build-deps.sh --jobs $(JOBS)
+	bash tools/python-deps.sh
 
 $(BUILD)/CMakeCache.txt: | deps
-	cmake -S . -B $(BUILD) -G Ninja -DSPHCUT_DEPS_FILE=$(DEPS_PREFIX)/sphcut-deps.cmake
+	cmake -S . -B $(BUILD) -G Ninja -DSPHCUT_DEPS_FILE=$(DEPS_PREFIX)/sphcut-deps.cmake \
+	  -DSPHCUT_PYTHON=$(shell bash tools/python-deps.sh --print-python)
 
 build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j $(JOBS)

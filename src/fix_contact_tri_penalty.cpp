@@ -545,13 +545,10 @@ void FixContactTriPenalty::post_force(int)
     in.sfac = sfac;
     in.mu = friction_coefficient(st[i][F::TEMP_F]);
     in.v_reg = vreg;
-    // friction never more than the stick force: it cannot reverse the sliding in a step
-    // (no chatter at low sliding speed; full Coulomb while the particle slides)
-    double vr[3], vn = 0.0, vt2 = 0.0;
-    for (int k = 0; k < 3; k++) vr[k] = in.v[k] - in.vtool[k];
-    for (int k = 0; k < 3; k++) vn += vr[k] * in.n[k];
-    for (int k = 0; k < 3; k++) vt2 += (vr[k] - vn * in.n[k]) * (vr[k] - vn * in.n[k]);
-    in.ft_cap = vt2 > 0.0 ? in.mass * sqrt(vt2) / dt_force : 1.0e-300;
+    // friction opposes the sliding the particle would have after the step (its pair forces
+    // included) and never exceeds the force that stops it: static friction up to mu F_N
+    in.dt_stick = dt_force;
+    for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f[i][k] : 0.0;
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) continue;
@@ -658,7 +655,7 @@ void FixContactTriPenalty::write_geometry()
   const std::vector<double> cur = current_elements();
   try {
     if (utils::strmatch(file, "\\.stl$") && nvert == 3) sphcut::write_stl_ascii(file, cur, id);
-    else sphcut::write_vtk_polydata(file, cur, nvert);
+    else sphcut::write_vtk(file, cur, nvert);
   } catch (std::exception &e) {
     error->one(FLERR, "Fix contact/tri-penalty: {}", e.what());
   }

@@ -323,7 +323,8 @@ struct ContactIn {
   double sfac = 1.2;                    // h = SFAC dp, eq. 9
   double mu = 0.0;                      // Coulomb friction coefficient, eq. 13
   double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
-  double ft_cap = 0.0;                  // largest friction force (> 0: the stick force m |v_t|/dt)
+  double dt_stick = 0.0;                // > 0: stick limit over this step (see penalty_contact)
+  double f_other[3] = {0.0, 0.0, 0.0};  // the other forces on the particle (pair, body) this step
 };
 
 struct ContactOut {
@@ -355,12 +356,17 @@ struct ContactOut {
        oscillator's restitution exp(-pi z/sqrt(1-z^2)), z = DFAC.  The
        force vanishes with the penetration, so there is no static adhesion.
      v_t = v_rel - (v_rel.n) n, t = v_t/|v_t|                (eqs. 14-15)
-     F_T = -min(mu |F_N| min(1, |v_t|/v_reg), F_cap) t         (eq. 13)
-       linear regularisation below v_reg: F_T -> 0 continuously at zero
-       sliding speed (v_reg <= 0: plain Coulomb).  F_cap (if > 0) is the
-       stick force m |v_t| / dt that stops the relative sliding within one
-       step: friction never reverses the sliding direction in a step (no
-       chattering), and a sliding particle gets full Coulomb friction.
+     F_T = -min(mu |F_N| min(1, |w|/v_reg), m |w|/dt) w/|w|     (eq. 13)
+       w = v_t + dt/m f_other,t (dt_stick > 0), else w = v_t: the
+       sliding velocity the particle would have after the step without
+       friction (velocity Verlet: v^(n+3/2) = v^(n+1/2) + dt/m F^(n+1)),
+       f_other the other forces on the particle (its SPH neighbours).
+       Friction opposes that trial sliding and is capped at the stick
+       force m |w|/dt that stops it within the step: a particle held
+       by its neighbours against the tool sticks (static friction up to
+       mu F_N), a sliding one gets full Coulomb friction, and friction
+       never reverses the sliding in a step (no chattering).  Linear
+       regularisation below v_reg (v_reg <= 0: plain Coulomb).
      f = F_N + F_T                                           (eqs. 16-17)
 ------------------------------------------------------------------------- */
 
@@ -389,12 +395,24 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   axpy3(vrel, -vn, in.n, vt);
   const double vs = len3(vt);
   out.vslide = vs;
-  if (in.mu > 0.0 && fn > 0.0 && vs > 0.0) {    // no friction without compression
-    const double ramp = (in.v_reg > 0.0 && vs < in.v_reg) ? vs / in.v_reg : 1.0;
+  // trial sliding velocity w over the step without friction
+  double w[3] = {vt[0], vt[1], vt[2]};
+  if (in.dt_stick > 0.0) {
+    const double fon = dot3(in.f_other, in.n);
+    for (int k = 0; k < 3; k++) w[k] += in.dt_stick / in.mass * (in.f_other[k] - fon * in.n[k]);
+  }
+  const double ws = len3(w);
+  if (in.mu > 0.0 && fn > 0.0 && ws > 0.0) {    // no friction without compression
+    const double ramp = (in.v_reg > 0.0 && ws < in.v_reg) ? ws / in.v_reg : 1.0;
     double ftmag = in.mu * fn * ramp;
-    if (in.ft_cap > 0.0 && ftmag > in.ft_cap) ftmag = in.ft_cap;
-    for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * vt[k] / vs;
-    out.fric_power = ftmag * vs;
+    if (in.dt_stick > 0.0) {
+      const double fstick = in.mass * ws / in.dt_stick;
+      if (ftmag > fstick) ftmag = fstick;
+    }
+    for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * w[k] / ws;
+    // power of the friction force against the sliding (> 0: dissipated into heat)
+    const double p = -dot3(out.ft, vt);
+    out.fric_power = p > 0.0 ? p : 0.0;
   }
   for (int k = 0; k < 3; k++) out.f[k] = fn * in.n[k] + out.ft[k];
 }

@@ -6,6 +6,7 @@
 #include "version.h"
 
 #include "compute_surface_lambda.h"
+#include "dump_sph.h"
 #include "fix_contact_tri_penalty.h"
 #include "fix_heat_fmfs.h"
 #include "fix_sph_jc_thermal.h"
@@ -21,6 +22,7 @@ template <class T> Compute *compute_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new T(lmp, argc, argv);
 }
+template <class T> Command *command_creator(LAMMPS *lmp) { return new T(lmp); }
 
 void add(lammpsplugin_regfunc reg, void *lmp, void *handle, const char *style, const char *name,
          const char *info, void *creator)
@@ -60,6 +62,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   add(reg, lmp, handle, "compute", "surface/lambda",
       "sphcut " SPHCUT_VERSION ": free-surface flag from the renormalisation matrix eigenvalue",
       (void *) &compute_creator<ComputeSurfaceLambda>);
+  add(reg, lmp, handle, "command", "dump_sph",
+      "sphcut " SPHCUT_VERSION ": dump custom of the SPH state under readable column names",
+      (void *) &command_creator<DumpSPH>);
 #ifdef SPHCUT_HAVE_KOKKOS
   sphcut_register_kokkos(reg, lmp, handle);
 #endif

@@ -350,25 +350,28 @@ void write_stl_binary(const std::string &file, const std::vector<double> &tri, c
   if (!out) throw std::runtime_error("cannot write '" + file + "'");
 }
 
-void write_vtk_polydata(const std::string &file, const std::vector<double> &elem, int nvert)
+void write_vtk(const std::string &file, const std::vector<double> &elem, int nvert)
 {
-  check_elem(elem, nvert, "write_vtk_polydata");
+  check_elem(elem, nvert, "write_vtk");
   const size_t ne = elem.size() / (3 * nvert);
   std::ofstream out = open_out(file, false);
   char buf[256];
-  out << "# vtk DataFile Version 3.0\nsphcut tool geometry\nASCII\nDATASET POLYDATA\n";
+  out << "# vtk DataFile Version 3.0\nsphcut tool geometry\nASCII\nDATASET UNSTRUCTURED_GRID\n";
   out << "POINTS " << ne * nvert << " double\n";
   for (size_t i = 0; i < ne * nvert; i++) {
     snprintf(buf, sizeof(buf), "%.17g %.17g %.17g\n", elem[3 * i], elem[3 * i + 1], elem[3 * i + 2]);
     out << buf;
   }
-  out << (nvert == 3 ? "POLYGONS " : "LINES ") << ne << " " << ne * (nvert + 1) << "\n";
+  out << "CELLS " << ne << " " << ne * (nvert + 1) << "\n";
   for (size_t e = 0; e < ne; e++) {
     out << nvert;
     for (int m = 0; m < nvert; m++) out << " " << e * nvert + m;
     out << "\n";
   }
-  out << "CELL_DATA " << ne << "\nNORMALS normal double\n";
+  // VTK cell types: 5 triangle, 3 line
+  out << "CELL_TYPES " << ne << "\n";
+  for (size_t e = 0; e < ne; e++) out << (nvert == 3 ? "5\n" : "3\n");
+  out << "CELL_DATA " << ne << "\nVECTORS normal double\n";
   for (size_t e = 0; e < ne; e++) {
     const double *v = elem.data() + 3 * nvert * e;
     double n[3];

@@ -65,9 +65,9 @@ void write_stl_ascii(const std::string &file, const std::vector<double> &tri,
 void write_stl_binary(const std::string &file, const std::vector<double> &tri,
                       const std::string &header = "sphcut binary STL");
 
-// legacy VTK polydata (ParaView, OVITO): nvert 3 = triangles with cell
+// legacy VTK unstructured grid (ParaView, OVITO, meshio): nvert 3 = triangles with cell
 // normals, nvert 2 = 2D segments as lines
-void write_vtk_polydata(const std::string &file, const std::vector<double> &elem, int nvert = 3);
+void write_vtk(const std::string &file, const std::vector<double> &elem, int nvert = 3);
 
 /* ----------------------------------------------------------------------
    orthogonal cutting insert.  Convention (x-y is the cutting plane):

@@ -738,18 +738,21 @@ TEST(Stl, VtkWriter)
   InsertParams ip;
   ip.edge_radius = 0.01;
   const std::vector<double> tri = make_cutting_insert(ip, 3);
-  write_vtk_polydata("insert.vtk", tri, 3);
+  write_vtk("insert.vtk", tri, 3);
   const std::string vtk = read_text("insert.vtk");
   const size_t nt = tri.size() / 9;
   EXPECT_EQ(vtk.compare(0, 26, "# vtk DataFile Version 3.0"), 0);
   EXPECT_NE(vtk.find("POINTS " + std::to_string(3 * nt) + " double"), std::string::npos);
-  EXPECT_NE(vtk.find("POLYGONS " + std::to_string(nt) + " " + std::to_string(4 * nt)), std::string::npos);
+  EXPECT_NE(vtk.find("DATASET UNSTRUCTURED_GRID"), std::string::npos);
+  EXPECT_NE(vtk.find("CELLS " + std::to_string(nt) + " " + std::to_string(4 * nt)), std::string::npos);
+  EXPECT_NE(vtk.find("CELL_TYPES " + std::to_string(nt) + "\n5\n"), std::string::npos);
   EXPECT_NE(vtk.find("CELL_DATA " + std::to_string(nt)), std::string::npos);
   const std::vector<double> seg = make_cutting_insert(ip, 2);
-  write_vtk_polydata("insert2d.vtk", seg, 2);
+  write_vtk("insert2d.vtk", seg, 2);
   const size_t ns = seg.size() / 6;
-  EXPECT_NE(read_text("insert2d.vtk").find("LINES " + std::to_string(ns) + " " + std::to_string(3 * ns)),
-            std::string::npos);
+  const std::string vtk2 = read_text("insert2d.vtk");
+  EXPECT_NE(vtk2.find("CELLS " + std::to_string(ns) + " " + std::to_string(3 * ns)), std::string::npos);
+  EXPECT_NE(vtk2.find("CELL_TYPES " + std::to_string(ns) + "\n3\n"), std::string::npos);
 }
 
 /* ----------------------------------------------------------------------

@@ -14,8 +14,8 @@ SPH_FC, SPH_FT = 180.3, 89.0         # N/mm, the paper's SPH with the proposed t
 
 
 def read_forces(path="forces.dat"):
-    rows = [l.split() for l in open(path) if not l.startswith("#")]
-    a = np.array([[float(v) for v in r[1:]] for r in rows])
+    from steady import read_rows
+    a = np.array(read_rows(path))
     return a[:, 0], a[:, 1], a[:, 2], a[:, 3], a[:, 4]    # time, lcut [mm], Fc, Ft [N/mm], Tmax
 
 
@@ -51,8 +51,8 @@ def main():
         return
     fig, ax = plt.subplots(figsize=(7, 4))
     work = d["type"] == 1
-    sc = ax.scatter(d["x"][work] * 1e3, d["y"][work] * 1e3, c=d["f_sph[12]"][work], s=4, cmap="inferno")
-    ax.scatter(d["x"][~work] * 1e3, d["y"][~work] * 1e3, c=d["f_sph[12]"][~work], s=4, cmap="inferno",
+    sc = ax.scatter(d["x"][work] * 1e3, d["y"][work] * 1e3, c=d["temperature"][work], s=4, cmap="inferno")
+    ax.scatter(d["x"][~work] * 1e3, d["y"][~work] * 1e3, c=d["temperature"][~work], s=4, cmap="inferno",
                marker="s", vmin=sc.get_clim()[0], vmax=sc.get_clim()[1])
     fig.colorbar(sc, label="temperature [K]")
     ax.set_aspect("equal")

@@ -7,8 +7,20 @@ PAPER = {"SPH reference thermal model, mu 0.35": (177.8, 92.9),
          "SPH proposed thermal model, mu 0.65": (185.0, 103.5)}
 
 
+def read_rows(path="forces.dat"):
+    """rows [time, cut_mm, Fc, Ft, Tmax, Trake] in step order; a run continued from a restart
+    repeats the step it started from: the last line of each step is kept"""
+    by_step = {}
+    for line in open(path):
+        if line.startswith("#") or not line.strip():
+            continue
+        v = line.split()
+        by_step[int(v[0])] = [float(x) for x in v[1:]]
+    return [by_step[k] for k in sorted(by_step)]
+
+
 def main(path="forces.dat", temperature_only=False):
-    rows = [[float(v) for v in l.split()[1:]] for l in open(path) if not l.startswith("#")]
+    rows = read_rows(path)
     lmax = max(r[1] for r in rows)
     sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
     fc = sum(r[2] for r in sel) / len(sel)

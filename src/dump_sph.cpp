@@ -1,0 +1,124 @@
+/* ----------------------------------------------------------------------
+   sphcut - command dump_sph (see dump_sph.h and doc/dump_sph.rst)
+
+     dump_sph ID group-ID N file field1 field2 ...
+
+   creates `dump ID group-ID custom N file ...` with every sphcut field
+   name replaced by the per-atom output it stands for (f_ID[k] of fix
+   sph/jc-thermal, c_ID[k] of compute surface/lambda, f_ID[k] of fix
+   contact/tri-penalty) and every other field passed through; then gives
+   the columns of the header line the sphcut names.  The dump is an
+   ordinary dump custom afterwards (dump_modify, undump, write_dump).
+   Plugins cannot add dump styles to LAMMPS (29Sep2021 to 2026), hence a
+   command.
+------------------------------------------------------------------------- */
+
+#include "dump_sph.h"
+
+#include "comm.h"
+#include "compute.h"
+#include "dump_custom.h"
+#include "error.h"
+#include "fix.h"
+#include "input.h"
+#include "modify.h"
+#include "output.h"
+#include "utils.h"
+
+#include <cstring>
+#include <map>
+
+using namespace LAMMPS_NS;
+
+const std::vector<DumpSPH::Field> &DumpSPH::fields()
+{
+  // columns of fix sph/jc-thermal (doc/fix_sph_jc_thermal.rst), compute surface/lambda
+  // (doc/compute_surface_lambda.rst) and fix contact/tri-penalty (per-atom contact force)
+  static const std::vector<Field> f = {
+      {"density", 0, 1},          {"pressure", 0, 2},
+      {"sxx", 0, 3},              {"syy", 0, 4},
+      {"szz", 0, 5},              {"sxy", 0, 6},
+      {"sxz", 0, 7},              {"syz", 0, 8},
+      {"vonmises", 0, 9},         {"plastic_strain", 0, 10},
+      {"plastic_strain_rate", 0, 11}, {"temperature", 0, 12},
+      {"role", 0, 13},            {"internal_energy", 0, 14},
+      {"temperature_rate", 0, 15},
+      {"lambda", 1, 1},           {"surface", 1, 2},
+      {"surface_nx", 1, 3},       {"surface_ny", 1, 4},
+      {"surface_nz", 1, 5},
+      {"fcontact_x", 2, 1},       {"fcontact_y", 2, 2},
+      {"fcontact_z", 2, 3}};
+  return f;
+}
+
+namespace {
+
+// 29Sep2021 has no dump_modify colname: set the header text of the columns directly
+// (pointer to a protected member through a derived class: standard C++)
+struct ColumnsAccess : public DumpCustom {
+  static char *&columns_of(DumpCustom *d) { return d->*(&ColumnsAccess::columns); }
+};
+
+}    // namespace
+
+void DumpSPH::command(int narg, char **arg)
+{
+  if (narg < 5) error->all(FLERR, "Illegal dump_sph command: dump_sph ID group-ID N file field ...");
+
+  // the first style providing each source, found by name
+  const char *srcstyle[3] = {"sph/jc-thermal", "surface/lambda", "contact/tri-penalty"};
+  std::string srcid[3];
+  int srcn[3] = {0, 0, 0};
+  for (int i = 0; i < modify->nfix; i++) {
+    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal") && !srcn[0]++) srcid[0] = modify->fix[i]->id;
+    if (utils::strmatch(modify->fix[i]->style, "^contact/tri-penalty") && !srcn[2]++)
+      srcid[2] = modify->fix[i]->id;
+  }
+  for (int i = 0; i < modify->ncompute; i++)
+    if (utils::strmatch(modify->compute[i]->style, "^surface/lambda") && !srcn[1]++)
+      srcid[1] = modify->compute[i]->id;
+
+  std::vector<std::string> words = {arg[0], arg[1], "custom", arg[2], arg[3]};
+  std::vector<std::pair<int, std::string>> rename;    // column (1-based) -> sphcut name
+  std::map<std::string, int> seen;
+  for (int iarg = 4; iarg < narg; iarg++) {
+    const std::string name = arg[iarg];
+    if (seen[name]++) error->all(FLERR, "dump_sph: field {} given twice", name);
+    const Field *fd = nullptr;
+    for (const Field &f : fields())
+      if (name == f.name) fd = &f;
+    if (!fd) {
+      words.push_back(name);    // any dump custom field: id, type, x, vx, c_ID, f_ID[2], v_name, ...
+      continue;
+    }
+    if (!srcn[fd->source])
+      error->all(FLERR, "dump_sph: field {} needs a {} {} (define it before dump_sph)", name,
+                 fd->source == 1 ? "compute" : "fix", srcstyle[fd->source]);
+    if (srcn[fd->source] > 1 && comm->me == 0)
+      error->warning(FLERR, "dump_sph: field {} taken from the first {} {}, {}", name,
+                     fd->source == 1 ? "compute" : "fix", srcstyle[fd->source], srcid[fd->source]);
+    words.push_back(fmt::format("{}_{}[{}]", fd->source == 1 ? "c" : "f", srcid[fd->source], fd->column));
+    rename.emplace_back((int) words.size() - 5, name);
+  }
+
+  std::vector<char *> argv;
+  for (std::string &w : words) argv.push_back(&w[0]);
+  output->add_dump((int) argv.size(), argv.data());
+  if (rename.empty()) return;
+
+#if SPHCUT_LAMMPS_VERSION >= 20220504
+  // newer LAMMPS rebuilds the header in init_style from dump_modify colname
+  std::string cmd = fmt::format("dump_modify {}", arg[0]);
+  for (const auto &r : rename) cmd += fmt::format(" colname {} {}", r.first, r.second);
+  input->one(cmd);
+#else
+  auto *dump = static_cast<DumpCustom *>(output->dump[output->ndump - 1]);
+  std::vector<std::string> cols = utils::split_words(ColumnsAccess::columns_of(dump));
+  for (const auto &r : rename) cols[r.first - 1] = r.second;
+  std::string joined;
+  for (const std::string &c : cols) joined += (joined.empty() ? "" : " ") + c;
+  char *&columns = ColumnsAccess::columns_of(dump);
+  delete[] columns;
+  columns = utils::strdup(joined);
+#endif
+}
