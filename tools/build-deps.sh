@@ -173,6 +173,12 @@ CXX_FOR_KOKKOS="${CXX:-g++}"
 CXXSTD=14
 # packages we compare against; MACHDYN needs Eigen (libeigen3-dev), CPU only
 CMP_PKGS=(-DPKG_MACHDYN=ON -DDOWNLOAD_EIGEN3=OFF -DPKG_SPH=ON)
+# Fix 0 (every backend): Kokkos_MemoryPool.cpp uses uint32_t without <cstdint>, which
+# g++ >= 13 no longer includes transitively (the device machine's compiler).
+grep -q "sphcut fix 0" "$KSRC/core/src/impl/Kokkos_MemoryPool.cpp" || \
+  sed -i '0,/^#include/s//#include <cstdint>  \/\/ sphcut fix 0: g++ >= 13\n#include/' \
+    "$KSRC/core/src/impl/Kokkos_MemoryPool.cpp"
+grep -q "sphcut fix 0" "$KSRC/core/src/impl/Kokkos_MemoryPool.cpp"
 if [ $CUDA = 1 ]; then
   # Fixes to Kokkos 3.4.01, which predates CUDA 13 and Hopper:
   # (1) nvcc_wrapper's default architecture sm_35 is rejected by CUDA 13: default to sm_80.
