@@ -139,6 +139,13 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       if (kw == "eta" && (v < 0.0 || v > 1.0))
         error->all(FLERR, "Fix contact/tri-penalty: eta must be in [0,1], got {}", v);
       iarg += 2;
+    } else if (kw == "stick") {
+      need(1, kw);
+      const std::string v = arg[iarg + 1];
+      if (v == "yes") stick = 1;
+      else if (v == "no") stick = 0;
+      else error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
+      iarg += 2;
     } else if (kw == "mu") {
       need(1, kw);
       const std::string v = arg[iarg + 1];
@@ -547,7 +554,7 @@ void FixContactTriPenalty::post_force(int)
     in.v_reg = vreg;
     // friction opposes the sliding the particle would have after the step (its pair forces
     // included) and never exceeds the force that stops it: static friction up to mu F_N
-    in.dt_stick = dt_force;
+    in.dt_stick = stick ? dt_force : 0.0;
     for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f[i][k] : 0.0;
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);

@@ -68,6 +68,7 @@ class FixContactTriPenalty : public Fix {
   // contact parameters
   double etool, pfac, dfac, sfac, vreg;
   int vreg_set;
+  int stick = 1;              // 1: friction limited to the force that stops the trial sliding
   // friction coefficient: constant, table mu(T), or an equal-style variable of an internal T
   enum { MU_CONST, MU_TABLE, MU_VARIABLE };
   int mustyle;

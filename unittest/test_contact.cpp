@@ -200,6 +200,47 @@ TEST(Sliding, RegularisedFrictionAndStop)
   }
 }
 
+// static friction: a resting particle pushed along the plate by another force f (fix addforce,
+// in the particle's force before the contact fix) sticks while f < mu m g, the friction
+// balancing f exactly; above it slides at (f - mu m g)/m.  With stick no (plain Coulomb, a
+// fixed tool: vreg 0) the friction only sees the velocity and chatters around v = 0.
+TEST(Sliding, StaticFrictionHoldsBelowMuN)
+{
+  write_plate();
+  const double E = 1.0e6, g = 1000.0, m = RHO * DP * DP, mu = 0.3, dt = 5e-6;
+  struct Case {
+    double ratio;    // f / (mu m g)
+    const char *stick;
+  };
+  for (const Case &c : {Case{0.5, "yes"}, Case{1.5, "yes"}, Case{0.5, "no"}}) {
+    Lammps l;
+    const double x0[3] = {0.0, RC - m * g / E, 0.0};
+    one_particle(l, 2, x0, E);
+    const double f = c.ratio * mu * m * g;
+    l.cmds({"fix g all gravity " + num(g) + " vector 0 -1 0", "fix push all addforce " + num(f) + " 0 0",
+            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + num(mu) + " stick " + c.stick,
+            "run 400"});
+    const double v = vel(l, 1)[0];
+    double vmax = 0.0;
+    for (int k = 0; k < 20; k++) {
+      l.cmd("run 1 pre no post no");
+      vmax = std::max(vmax, fabs(vel(l, 1)[0]));
+    }
+    std::printf("[ static   ] f = %.1f mu m g, stick %s: v %.3e m/s, max |v| over 20 steps %.3e, tool force x %.6g "
+                "(f %.6g)\n", c.ratio, c.stick, v, vmax, l.equal("f_tool[1]"), f);
+    if (c.ratio < 1.0 && std::string(c.stick) == "yes") {
+      EXPECT_LT(vmax, 1e-12);                                   // held
+      EXPECT_NEAR(l.equal("f_tool[1]"), f, 1e-9 * f);          // friction = f
+    } else if (c.ratio > 1.0) {
+      const double a = (f - mu * m * g) / m, t = 420 * dt;
+      EXPECT_NEAR(vel(l, 1)[0], a * t, 0.01 * a * t);           // sliding at (f - mu m g)/m
+    } else {
+      EXPECT_GT(vmax, 0.1 * mu * g * dt);                       // Coulomb chatter
+      EXPECT_LT(vmax, 2.0 * (mu * g + f / m) * dt);
+    }
+  }
+}
+
 // mu(T) at the particle temperature (Tref 300 K): table 200 K 0.1 .. 400 K 0.4 gives 0.25,
 // the variable 0.001 T gives 0.3, and the deceleration follows
 TEST(Sliding, MuOfTemperature)

@@ -7,7 +7,7 @@
 #   bash bench/cutting/device-cut.sh continue   continue every unfinished run from its restart
 # Environment: NY (particles across, default 21), CUT (m, default 2e-3), MUS (friction
 # coefficients run side by side, default "0.35 0.65"), NP (ranks per run, default cores/runs),
-# WALL (seconds of run per call, default 420).  Everything a run writes is copied to $OUT.
+# WALL (seconds of run per call, default 420).  Each run's output goes to $OUT as one archive.
 # The sources: bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
 set -euo pipefail
 MODE="${1:-start}"
@@ -38,8 +38,8 @@ for mu in $MUS; do
   if [ -f "$dir/done" ]; then continue; fi
   cont=0; [ "$MODE" = continue ] && [ -f "$dir/restart.cutting" ] && cont=1
   seg=$(find "$dir" -maxdepth 1 -name 'log.*' | wc -l)
-  ( cd "$dir" && mpirun -np "$NP" --bind-to core $LMP -in "$IN" -var ny "$NY" -var cut "$CUT" -var mu "$mu" \
-      -var dumpevery 40000 -var thermoevery 10000 -var walltime "$WALL" -var continue $cont \
+  ( cd "$dir" && mpirun -np "$NP" --bind-to none $LMP -in "$IN" -var ny "$NY" -var cut "$CUT" -var mu "$mu" \
+      -var dumpevery "${DUMPEVERY:-40000}" -var thermoevery 10000 -var walltime "$WALL" -var continue $cont \
       -log "log.$seg" -screen none
     # finished when the halt criterion fired (cut length reached) rather than the timeout
     grep -q "Fix halt condition" "log.$seg" && touch done || true ) &
@@ -47,11 +47,10 @@ for mu in $MUS; do
 done
 for p in "${pids[@]}"; do wait "$p"; done
 for mu in $MUS; do
-  dir="$ROOT/build-device/run-ny$NY-mu$mu"; o="$OUT/run-ny$NY-mu$mu"; mkdir -p "$o"
-  cp "$dir"/forces.dat "$dir"/log.* "$o"/ 2>/dev/null || true
-  if [ -f "$dir/done" ]; then touch "$o/done"; fi
-  # the dump (every 40000 steps) and the last tool file
-  cp "$dir/dump.cutting" "$o/" 2>/dev/null || true
-  last=$(find "$dir" -maxdepth 1 -name "tool-*.vtk" | sort -t- -k2 -n | tail -1); if [ -n "$last" ]; then cp "$last" "$o/"; fi
+  dir="$ROOT/build-device/run-ny$NY-mu$mu"
+  # one archive per run (the device returns few files): forces, logs, dump, last tool file
+  last=$(find "$dir" -maxdepth 1 -name "tool-*.vtk" | sort -t- -k2 -n | tail -1)
+  files="forces.dat $(cd "$dir" && { ls log.* dump.cutting done restart.cutting 2>/dev/null || true; } | tr '\n' ' ') ${last##*/}"
+  tar czf "$OUT/run-ny$NY-mu$mu.tar.gz" -C "$dir" $files
   echo "mu $mu: $(grep -h 'Loop time' "$dir"/log.* | tail -1); cut $(tail -1 "$dir/forces.dat" | awk '{print $3}') mm"
 done | tee "$OUT/progress.txt"
