@@ -335,7 +335,7 @@ struct ContactOut {
   double delta;         // penetration, eq. 9 (also when inactive)
   double delta_dot;     // penetration rate -n.(v - vtool)
   double vslide;        // sliding speed |v_rel,t|, eq. 14
-  double fric_power;    // |F_T| |v_rel,t| (heat source of friction)
+  double fric_power;    // max(0, -F_T . v_rel,t) (heat source of friction)
   double k, damp;       // stiffness and damping coefficient used
 };
 

@@ -4,8 +4,14 @@
 // work of the tool = kinetic + internal energy of the particles + contact dissipation.
 #include "sphcut_test.h"
 
+#include "update.h"
+
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <memory>
 
 using sphcut_test::Lammps;
 
@@ -41,4 +47,46 @@ TEST(Cutting, QuickTi6Al4V)
   EXPECT_GT(tmax, 350.0);           // plastic and friction heat
   EXPECT_LT(tmax, 1878.0);
   EXPECT_LT(fabs(balance), 0.05);
+}
+
+// a long cut split with restart files continues as one run: 9000 steps in one go against
+// 8000 + write_restart + read_restart (-var continue 1) + 1000, with the tool in contact
+// (it reaches the workpiece after about 7700 steps).  Equal to round-off: the continued run
+// re-sorts and re-neighbours, which changes the summation order.
+TEST(Cutting, RestartContinuesTheCut)
+{
+  const std::string in = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
+  auto run = [&](int steps, int cont) {
+    auto l = std::make_unique<Lammps>();
+    l->cmds({"variable ny index 11", "variable dumpevery index 0", "variable thermoevery index 1000",
+             "variable steps index " + std::to_string(steps), "variable continue index " + std::to_string(cont)});
+    l->lmp->input->file(in.c_str());
+    return l;
+  };
+  auto ref = run(9000, 0);
+  const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), work = ref->equal("f_cut[13]");
+  const double eint = ref->equal("f_sph[2]");
+  std::map<int, std::array<double, 2>> xref;
+  for (int i = 0; i < ref->lmp->atom->nlocal; i++)
+    xref[ref->lmp->atom->tag[i]] = {ref->lmp->atom->x[i][0], ref->lmp->atom->x[i][1]};
+  ref.reset();
+  run(8000, 0).reset();
+  auto cont = run(1000, 1);
+  EXPECT_EQ(cont->lmp->update->ntimestep, 9000);
+  std::printf("[ restart  ] step 9000: Fc %.10g / %.10g N/mm, Ft %.10g / %.10g, tool work %.10g / %.10g\n", fc,
+              cont->equal("v_Fc"), ft, cont->equal("v_Ft"), work, cont->equal("f_cut[13]"));
+  EXPECT_GT(fc, 20.0);    // in contact
+  EXPECT_NEAR(cont->equal("v_Fc"), fc, 1e-8 * fc);
+  EXPECT_NEAR(cont->equal("v_Ft"), ft, 1e-8 * fc);
+  EXPECT_NEAR(cont->equal("f_cut[13]"), work, 1e-8 * work);
+  EXPECT_NEAR(cont->equal("f_sph[2]"), eint, 1e-8 * fabs(eint));
+  double worst = 0.0;
+  auto *atom = cont->lmp->atom;
+  ASSERT_EQ((size_t) atom->nlocal, xref.size());
+  for (int i = 0; i < atom->nlocal; i++) {
+    const auto &x = xref.at(atom->tag[i]);
+    worst = std::max({worst, fabs(atom->x[i][0] - x[0]), fabs(atom->x[i][1] - x[1])});
+  }
+  std::printf("[ restart  ] largest position difference %.2e m (spacing 3e-5 m)\n", worst);
+  EXPECT_LT(worst, 1e-14);
 }
