@@ -81,6 +81,17 @@ double *fcontact(Lammps &l, int tag, const char *id = "tool")
 double *pos(Lammps &l, int tag) { return l.lmp->atom->x[l.lmp->atom->map(tag)]; }
 double *vel(Lammps &l, int tag) { return l.lmp->atom->v[l.lmp->atom->map(tag)]; }
 
+// largest |v_x| of atom 1 sampled after each of `nrun` further runs of `nstep` steps
+double max_vx_over(Lammps &l, int nrun, int nstep)
+{
+  double vmax = 0.0;
+  for (int k = 0; k < nrun; k++) {
+    l.cmd("run " + std::to_string(nstep) + " pre no post no");
+    vmax = std::max(vmax, fabs(vel(l, 1)[0]));
+  }
+  return vmax;
+}
+
 }    // namespace
 
 /* ----------------------------------------------------------------------
@@ -187,11 +198,7 @@ TEST(Sliding, RegularisedFrictionAndStop)
     } else {
       l.cmd("run 1000");    // Coulomb stop after 0.5/(mu g) = 1.67 ms = 333 steps
       const double v = vel(l, 1)[0];
-      double vmax = 0.0;
-      for (int k = 0; k < 20; k++) {
-        l.cmd("run 5 pre no post no");
-        vmax = std::max(vmax, fabs(vel(l, 1)[0]));
-      }
+      const double vmax = max_vx_over(l, 20, 5);
       std::printf("[ sliding  ] vreg 0 (Coulomb): stopped, v %.2e m/s, max |v| over 100 more steps %.2e m/s "
                   "(chatter would be mu g dt = %.1e)\n", v, vmax, mu * g * 5e-6);
       EXPECT_LT(vmax, 1e-9);
@@ -221,11 +228,7 @@ TEST(Sliding, StaticFrictionHoldsBelowMuN)
             "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + num(mu) + " stick " + c.stick,
             "run 400"});
     const double v = vel(l, 1)[0];
-    double vmax = 0.0;
-    for (int k = 0; k < 20; k++) {
-      l.cmd("run 1 pre no post no");
-      vmax = std::max(vmax, fabs(vel(l, 1)[0]));
-    }
+    const double vmax = max_vx_over(l, 20, 1);
     std::printf("[ static   ] f = %.1f mu m g, stick %s: v %.3e m/s, max |v| over 20 steps %.3e, tool force x %.6g "
                 "(f %.6g)\n", c.ratio, c.stick, v, vmax, l.equal("f_tool[1]"), f);
     if (c.ratio < 1.0 && std::string(c.stick) == "yes") {

@@ -3,7 +3,7 @@
 # (16 cores, MPI; no network).  Runs of more than the 10 minutes one device command may
 # take are split with the example's restart support (-var walltime / -var continue).
 #   bash bench/cutting/device-cut.sh start      build LAMMPS (OpenMP Kokkos, MPI) + plugin
-#                                               from .carry/sphcut-sources.tar.gz, start the runs
+#                                               from .carry/sphcut-sources.tar.gz if needed, start the runs
 #   bash bench/cutting/device-cut.sh continue   continue every unfinished run from its restart
 # Environment: NY (particles across, default 21), CUT (m, default 2e-3), MUS (friction
 # coefficients run side by side, default "0.35 0.65"), NP (ranks per run, default cores/runs),
@@ -16,21 +16,7 @@ OUT="${OUT:-$PWD/device-out}"
 ROOT="$PWD"
 nrun=$(echo $MUS | wc -w)
 NP="${NP:-$(( $(nproc) / nrun ))}"
-export SPHCUT_CACHE="$ROOT/build-device/cache"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-mkdir -p "$OUT"
-if [ "$MODE" = start ]; then
-  { lscpu | grep -E "Model name|^CPU\(s\)|Thread|MHz"; free -g | head -2; } > "$OUT/cpu.txt" 2>&1 || true
-  t0=$(date +%s)
-  SRC="$ROOT/build-device/src"; mkdir -p "$SRC"; tar xzf .carry/sphcut-sources.tar.gz -C "$SRC"
-  bash tools/build-deps.sh --no-apt --sources "$SRC" --jobs "$(nproc)" > "$OUT/build-deps.log" 2>&1
-  PREFIX=$(bash tools/build-deps.sh --print-prefix)
-  cmake -S . -B build-device/plugin -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
-    > "$OUT/plugin-build.log" 2>&1
-  cmake --build build-device/plugin -j "$(nproc)" >> "$OUT/plugin-build.log" 2>&1
-  echo "build seconds: $(( $(date +%s) - t0 ))" | tee "$OUT/build-times.txt"
-fi
-source build-device/plugin/env.sh
+source "$ROOT/bench/cutting/device-build.sh"    # once per machine
 IN="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
 pids=()
 for mu in $MUS; do
@@ -40,7 +26,7 @@ for mu in $MUS; do
   seg=$(find "$dir" -maxdepth 1 -name 'log.*' | wc -l)
   ( cd "$dir" && mpirun -np "$NP" --bind-to none $LMP -in "$IN" -var ny "$NY" -var cut "$CUT" -var mu "$mu" \
       -var dumpevery "${DUMPEVERY:-40000}" -var thermoevery 10000 -var walltime "$WALL" -var continue $cont \
-      -log "log.$seg" -screen none
+      -log "log.$seg" -screen none || true
     # finished when the halt criterion fired (cut length reached) rather than the timeout
     grep -q "Fix halt condition" "log.$seg" && touch done || true ) &
   pids+=($!)

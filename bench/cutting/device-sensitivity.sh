@@ -8,17 +8,7 @@
 set -euo pipefail
 NY="${NY:-21}"; CUT="${CUT:-0.5e-3}"; WALL="${WALL:-480}"
 OUT="${OUT:-$PWD/device-out}"; ROOT="$PWD"; mkdir -p "$OUT"
-export SPHCUT_CACHE="$ROOT/build-device/cache"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-if [ ! -f build-device/plugin/env.sh ]; then
-  SRC="$ROOT/build-device/src"; mkdir -p "$SRC"; tar xzf .carry/sphcut-sources.tar.gz -C "$SRC"
-  bash tools/build-deps.sh --no-apt --sources "$SRC" --jobs "$(nproc)" > "$OUT/build-deps.log" 2>&1
-  PREFIX=$(bash tools/build-deps.sh --print-prefix)
-  cmake -S . -B build-device/plugin -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
-    > "$OUT/plugin-build.log" 2>&1
-  cmake --build build-device/plugin -j "$(nproc)" >> "$OUT/plugin-build.log" 2>&1
-fi
-source build-device/plugin/env.sh
+source "$ROOT/bench/cutting/device-build.sh"    # once per machine
 IN="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
 declare -A VARIANTS=(
   [base]=""
