@@ -17,36 +17,39 @@
 
 #include "comm.h"
 #include "compute.h"
+#include "compute_surface_lambda.h"
 #include "dump_custom.h"
 #include "error.h"
 #include "fix.h"
+#include "fix_sph_jc_thermal.h"
 #include "input.h"
 #include "modify.h"
 #include "output.h"
 #include "utils.h"
 
-#include <cstring>
 #include <map>
 
 using namespace LAMMPS_NS;
 
 const std::vector<DumpSPH::Field> &DumpSPH::fields()
 {
-  // columns of fix sph/jc-thermal (doc/fix_sph_jc_thermal.rst), compute surface/lambda
-  // (doc/compute_surface_lambda.rst) and fix contact/tri-penalty (per-atom contact force)
+  // the documented per-atom columns of fix sph/jc-thermal, compute surface/lambda and fix
+  // contact/tri-penalty (1-based, as in f_ID[k]), taken from the styles' own enums
+  using F = FixSPHJCThermal;
+  using S = ComputeSurfaceLambda;
   static const std::vector<Field> f = {
-      {"density", 0, 1},          {"pressure", 0, 2},
-      {"sxx", 0, 3},              {"syy", 0, 4},
-      {"szz", 0, 5},              {"sxy", 0, 6},
-      {"sxz", 0, 7},              {"syz", 0, 8},
-      {"vonmises", 0, 9},         {"plastic_strain", 0, 10},
-      {"plastic_strain_rate", 0, 11}, {"temperature", 0, 12},
-      {"role", 0, 13},            {"internal_energy", 0, 14},
-      {"temperature_rate", 0, 15},
-      {"lambda", 1, 1},           {"surface", 1, 2},
-      {"surface_nx", 1, 3},       {"surface_ny", 1, 4},
-      {"surface_nz", 1, 5},
-      {"fcontact_x", 2, 1},       {"fcontact_y", 2, 2},
+      {"density", 0, F::RHO + 1},          {"pressure", 0, F::PRESS + 1},
+      {"sxx", 0, F::SXX + 1},              {"syy", 0, F::SYY + 1},
+      {"szz", 0, F::SZZ + 1},              {"sxy", 0, F::SXY + 1},
+      {"sxz", 0, F::SXZ + 1},              {"syz", 0, F::SYZ + 1},
+      {"vonmises", 0, F::VM + 1},          {"plastic_strain", 0, F::EPS + 1},
+      {"plastic_strain_rate", 0, F::EPSDOT + 1}, {"temperature", 0, F::TEMP + 1},
+      {"role", 0, F::ROLE + 1},            {"internal_energy", 0, F::UINT + 1},
+      {"temperature_rate", 0, F::DTEMP + 1},
+      {"lambda", 1, S::LAMBDA + 1},        {"surface", 1, S::FLAG + 1},
+      {"surface_nx", 1, S::NX + 1},        {"surface_ny", 1, S::NY + 1},
+      {"surface_nz", 1, S::NZ + 1},
+      {"fcontact_x", 2, 1},                {"fcontact_y", 2, 2},
       {"fcontact_z", 2, 3}};
   return f;
 }
