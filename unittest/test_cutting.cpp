@@ -29,6 +29,9 @@ TEST(Cutting, QuickTi6Al4V)
     if (atom->type[i] == 1) ymax = std::max(ymax, atom->x[i][1]);
   }
   EXPECT_EQ(bad, 0.0);
+  // no lost atoms: the 11-across geometry creates 1393 (workpiece, clamp, tool); LAMMPS would
+  // also stop with "Lost atoms" (thermo_modify lost error, the default)
+  EXPECT_EQ(atom->natoms, 1393);
   const double lcut = l.equal("v_lcut"), fc = l.equal("v_Fc"), ft = l.equal("v_Ft");
   const double tmax = l.equal("v_Tmax");
   const double work = l.equal("f_cut[13]"), diss = l.equal("f_cut[15]");
