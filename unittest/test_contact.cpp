@@ -760,6 +760,7 @@ TEST(BadInput, ContactFix)
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl write 10 tool.stl",
                                "write file tool.stl: a 2D tool (segments) can only be written as .vtk"));
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl eta 2", "eta must be in [0,1], got 2"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl stick maybe", "stick must be yes or no, got maybe"));
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl pfac 0", "pfac must be > 0, got 0"));
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl split auto", "split auto needs tool_particles"));
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl scale 2 insert rake 5 clearance 7 radius 0 rake_length 1e-3 "
