@@ -76,6 +76,21 @@ void random_deviator(std::mt19937 &gen, double q, double *s)
 /* ---------------------------------------------------------------------- */
 
 // shear and bulk modulus and wave speeds from E, nu
+// q (columns: eigenvectors) orthonormal and q diag(lam) q^T = sf (full 3x3) to 1e-12
+static void expect_eigen_decomposition(const double *q, const double *lam, const double *sf, int trial)
+{
+  for (int a = 0; a < 3; a++)
+    for (int b = 0; b < 3; b++) {
+      double qtq = 0.0, rec = 0.0;
+      for (int k = 0; k < 3; k++) {
+        qtq += q[3 * k + a] * q[3 * k + b];
+        rec += q[3 * a + k] * lam[k] * q[3 * b + k];
+      }
+      EXPECT_NEAR(qtq, a == b ? 1.0 : 0.0, 1.0e-12) << "trial " << trial;
+      EXPECT_NEAR(rec, sf[3 * a + b], 1.0e-12) << "trial " << trial;
+    }
+}
+
 TEST(Material, DerivedElasticConstants)
 {
   const Material mat = ti64();
@@ -368,16 +383,7 @@ TEST(Math, SymEigenReconstructs)
     double sf[9];
     sym_eigen(s, lam, q);
     to_full(s, sf);
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) {
-        double qtq = 0.0, rec = 0.0;
-        for (int k = 0; k < 3; k++) {
-          qtq += q[3 * k + a] * q[3 * k + b];
-          rec += q[3 * a + k] * lam[k] * q[3 * b + k];
-        }
-        EXPECT_NEAR(qtq, a == b ? 1.0 : 0.0, 1.0e-12) << "trial " << trial;
-        EXPECT_NEAR(rec, sf[3 * a + b], 1.0e-12) << "trial " << trial;
-      }
+    expect_eigen_decomposition(q, lam, sf, trial);
   }
   // known spectrum {3, -1, 0.5} in a rotated frame
   const double c = cos(0.7), sn = sin(0.7), c2 = cos(-1.1), s2 = sin(-1.1);
@@ -419,16 +425,7 @@ TEST(Math, SymEigen2dReconstructs)
     to_full(s, sf);
     EXPECT_GE(lam[0], lam[1]);
     EXPECT_EQ(lam[2], s[ZZ]);
-    for (int a = 0; a < 3; a++)
-      for (int b = 0; b < 3; b++) {
-        double qtq = 0.0, rec = 0.0;
-        for (int k = 0; k < 3; k++) {
-          qtq += q[3 * k + a] * q[3 * k + b];
-          rec += q[3 * a + k] * lam[k] * q[3 * b + k];
-        }
-        EXPECT_NEAR(qtq, a == b ? 1.0 : 0.0, 1.0e-12) << "trial " << trial;
-        EXPECT_NEAR(rec, sf[3 * a + b], 1.0e-12) << "trial " << trial;
-      }
+    expect_eigen_decomposition(q, lam, sf, trial);
     EXPECT_EQ(q[2], 0.0);
     EXPECT_EQ(q[5], 0.0);
     EXPECT_EQ(q[8], 1.0);
