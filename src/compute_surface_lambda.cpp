@@ -71,6 +71,7 @@ ComputeSurfaceLambda::~ComputeSurfaceLambda()
 void ComputeSurfaceLambda::init()
 {
   fix = FixSPHJCThermal::require(lmp, "Compute surface/lambda", groupbit, group->names[igroup], &pair);
+  fix->attach(this);
   // perpetual full list: the flags are needed every step by fix heat/fmfs
   sphcut::request_full_list(neighbor, this, instance_me, false, false);
 }

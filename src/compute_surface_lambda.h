@@ -14,13 +14,14 @@ ComputeStyle(surface/lambda,ComputeSurfaceLambda);
 #define LMP_COMPUTE_SURFACE_LAMBDA_H
 
 #include "compute.h"
+#include "sphcut_timer.h"
 
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
 class PairSPHJCThermal;
 
-class ComputeSurfaceLambda : public Compute {
+class ComputeSurfaceLambda : public Compute, public sphcut::TimedStyle {
  public:
   enum { LAMBDA = 0, FLAG, NX, NY, NZ, NCOLS };
   ComputeSurfaceLambda(class LAMMPS *, int, char **);
@@ -33,7 +34,7 @@ class ComputeSurfaceLambda : public Compute {
   // for fix heat/fmfs: 1 if local atom i is a surface particle (valid after compute_peratom)
   int is_surface(int i) const { return out[i][FLAG] > 0.5; }
   double threshold;
-  double cpu_time = 0.0;    // wall time on this rank (sphcut timing table)
+  std::string timing_name() const override { return std::string("compute surface/lambda ") + id; }
 
  private:
   int every;                  // recompute every this many steps (and after reneighboring)

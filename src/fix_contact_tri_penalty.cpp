@@ -349,6 +349,7 @@ double FixContactTriPenalty::contact_radius_max() const
 void FixContactTriPenalty::init()
 {
   fix = FixSPHJCThermal::require(lmp, "Fix contact/tri-penalty", groupbit, group->names[igroup], &pair);
+  fix->attach(this);
   heat = nullptr;
   if (!id_heat.empty()) {
     const int ih = modify->find_fix(id_heat);

@@ -16,6 +16,7 @@ FixStyle(contact/tri-penalty,FixContactTriPenalty);
 
 #include "fix.h"
 #include "sphcut_stl.h"
+#include "sphcut_timer.h"
 
 #include <string>
 #include <vector>
@@ -26,7 +27,7 @@ class FixSPHJCThermal;
 class PairSPHJCThermal;
 class FixHeatFMFS;
 
-class FixContactTriPenalty : public Fix {
+class FixContactTriPenalty : public Fix, public sphcut::TimedStyle {
  public:
   FixContactTriPenalty(class LAMMPS *, int, char **);
   ~FixContactTriPenalty() override;
@@ -55,7 +56,7 @@ class FixContactTriPenalty : public Fix {
   // the current tool geometry in the simulation frame (for output and tests)
   std::vector<double> current_elements() const;
   int element_vertices() const { return nvert; }
-  double cpu_time = 0.0;    // wall time of the contact on this rank (timing table)
+  std::string timing_name() const override { return std::string("fix contact/tri-penalty ") + id; }
 
  private:
   // geometry, in the tool frame; the tool translates by disp

@@ -142,6 +142,7 @@ int FixHeatFMFS::setmask()
 void FixHeatFMFS::init()
 {
   fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &pair);
+  fix->attach(this);
   // Dirichlet temperatures are imposed after the temperature update of that fix
   int ifix = -1, ime = -1, ninst = 0;
   for (int i = 0; i < modify->nfix; i++) {

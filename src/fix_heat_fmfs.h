@@ -17,6 +17,7 @@ FixStyle(heat/fmfs,FixHeatFMFS);
 #define LMP_FIX_HEAT_FMFS_H
 
 #include "fix.h"
+#include "sphcut_timer.h"
 
 #include <vector>
 
@@ -26,7 +27,7 @@ class FixSPHJCThermal;
 class PairSPHJCThermal;
 class ComputeSurfaceLambda;
 
-class FixHeatFMFS : public Fix {
+class FixHeatFMFS : public Fix, public sphcut::TimedStyle {
  public:
   FixHeatFMFS(class LAMMPS *, int, char **);
   ~FixHeatFMFS() override;
@@ -49,7 +50,8 @@ class FixHeatFMFS : public Fix {
   // entry point for heat sources (fix contact/tri-penalty: friction heat):
   // add `power` (energy/time) to local atom i during post_force of this step
   void add_heat(int i, double power);
-  double cpu_time = 0.0;    // wall time on this rank, without the surface compute (timing table)
+  // cpu_time: wall time on this rank, without the surface compute
+  std::string timing_name() const override { return std::string("fix heat/fmfs ") + id; }
 
  private:
   enum { FMFS, BROOKSHAW };

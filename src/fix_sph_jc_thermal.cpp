@@ -29,13 +29,10 @@
 #include "variable.h"
 
 #include "sphcut_compat.h"
-#include "sphcut_material.h"
+#include "sphcut_solid.h"
 #include "sphcut_timer.h"
 
-#include "compute_surface_lambda.h"
-#include "fix_contact_tri_penalty.h"
-#include "fix_heat_fmfs.h"
-
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -43,8 +40,6 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 using sphcut::Material;
-
-static constexpr int NFORWARD = 1 + 6 + 1 + 3;    // RHO_F, SF, TEMP_F, VEST
 
 /* ---------------------------------------------------------------------- */
 
@@ -229,6 +224,12 @@ void FixSPHJCThermal::reset_dt()
 
 void FixSPHJCThermal::setup_pre_force(int vflag)
 {
+  setup_state();
+  pre_force(vflag);
+}
+
+void FixSPHJCThermal::setup_state()
+{
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   const int *type = atom->type;
@@ -271,7 +272,6 @@ void FixSPHJCThermal::setup_pre_force(int vflag)
     }
   }
   force_state_valid = 1;
-  pre_force(vflag);
 }
 
 /* ----------------------------------------------------------------------
@@ -283,32 +283,13 @@ void FixSPHJCThermal::pre_force(int)
 {
   sphcut::ScopedTimer timer(cpu_time);
   const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    double *s = state[i];
-    s[DRHO] = 0.0;
-    for (int k = 0; k < 6; k++) s[DS + k] = 0.0;
-    s[DTEMP] = 0.0;
-    s[DU] = 0.0;
-  }
+  for (int i = 0; i < nlocal; i++) sphcut::zero_rates(state[i]);
   sphcut::forward_comm(comm, this);
 }
 
 /* ----------------------------------------------------------------------
-   predictor of the material state (used by the forces of this step)
+   first half of the step (sphcut_solid.h): kick, drift, predictor
 ------------------------------------------------------------------------- */
-
-void FixSPHJCThermal::predict(int i, const double *, const double *, const int *type)
-{
-  double *s = state[i];
-  const double dt = dtv;
-  s[RHO_F] = s[RHO] + dt * s[DRHO_O];
-  for (int k = 0; k < 6; k++) s[SF + k] = s[SXX + k] + dt * s[DS_O + k];
-  s[TEMP_F] = s[TEMP] + dt * s[DTEMP_O];
-  const Material &mt = pair->materials()[type[i]];
-  sphcut::radial_return(mt, &s[SF], s[EPS], s[TEMP_F], dt, nullptr);
-}
-
-/* ---------------------------------------------------------------------- */
 
 void FixSPHJCThermal::initial_integrate(int)
 {
@@ -325,34 +306,8 @@ void FixSPHJCThermal::initial_integrate(int)
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    double *s = state[i];
-    s[DRHO_O] = s[DRHO];
-    for (int k = 0; k < 6; k++) s[DS_O + k] = s[DS + k];
-    s[DTEMP_O] = s[DTEMP];
-    s[DU_O] = s[DU];
-
-    const int role = role_of(mask[i]);
-    if (role == TOOL) {
-      // rigid tool particle: prescribed velocity, no mechanics
-      for (int d = 0; d < 3; d++) {
-        x[i][d] += dtv * v[i][d];
-        s[VEST + d] = v[i][d];
-      }
-      s[TEMP_F] = s[TEMP] + dtv * s[DTEMP_O];
-      continue;
-    }
-    if (role == CLAMPED) {
-      for (int d = 0; d < 3; d++) v[i][d] = s[VEST + d] = 0.0;
-    } else {
-      const double dtfm = dtf / (rmass ? rmass[i] : mass[type[i]]);
-      const double eps = mat[type[i]].xsph;
-      for (int d = 0; d < 3; d++) {
-        s[VEST + d] = v[i][d] + 2.0 * dtfm * f[i][d];
-        v[i][d] += dtfm * f[i][d];
-        x[i][d] += dtv * (v[i][d] + eps * s[XSPH + d]);
-      }
-    }
-    predict(i, mass, rmass, type);
+    const double dtfm = dtf / (rmass ? rmass[i] : mass[type[i]]);
+    sphcut::integrate_first_half(mat[type[i]], role_of(mask[i]), dtv, dtfm, x[i], v[i], f[i], state[i]);
   }
 }
 
@@ -369,37 +324,12 @@ void FixSPHJCThermal::final_integrate()
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   const Material *mat = pair->materials();
-  const double dt = dtv;
-  const double hdt = 0.5 * dtv;
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    double *s = state[i];
-    const int role = role_of(mask[i]);
-    s[TEMP] += hdt * (s[DTEMP_O] + s[DTEMP]);
-    if (role != TOOL) {
-      const double m = rmass ? rmass[i] : mass[type[i]];
-      if (role == WORKPIECE) {
-        const double dtfm = dtf / m;
-        for (int d = 0; d < 3; d++) v[i][d] += dtfm * f[i][d];
-      }
-      const Material &mt = mat[type[i]];
-      s[RHO] += hdt * (s[DRHO_O] + s[DRHO]);
-      for (int k = 0; k < 6; k++) s[SXX + k] += hdt * (s[DS_O + k] + s[DS + k]);
-      s[UINT] += hdt * (s[DU_O] + s[DU]);
-      double sigy = 0.0;
-      const double deps = sphcut::radial_return(mt, &s[SXX], s[EPS], s[TEMP], dt, &sigy);
-      s[EPS] += deps;
-      s[EPSDOT] = deps / dt;
-      if (deps > 0.0) {
-        const double wp = sigy * deps / s[RHO];    // plastic work per unit mass
-        plastic_work += m * wp;
-        if (mt.cp > 0.0) s[TEMP] += mt.chi * wp / mt.cp;
-      }
-      s[PRESS] = sphcut::eos_pressure(mt, s[RHO], s[TEMP]);
-      s[VM] = sphcut::von_mises(&s[SXX]);
-    }
-    for (int d = 0; d < 3; d++) s[VEND + d] = v[i][d];
+    const double m = rmass ? rmass[i] : mass[type[i]];
+    plastic_work += sphcut::integrate_second_half(mat[type[i]], role_of(mask[i]), dtv, dtf / m, m,
+                                                  v[i], f[i], state[i]);
   }
 }
 
@@ -420,15 +350,14 @@ double FixSPHJCThermal::stable_dt()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const int it = type[i];
-    const double h = pair->smoothing_length(it);
-    const Material &mt = mat[it];
-    if (role_of(mask[i]) != TOOL) {
-      const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-      dtloc = std::min(dtloc, cfl * h / (mt.cl + vv));
-    }
-    if (heat_active && mt.kappa > 0.0 && mt.cp > 0.0)
-      dtloc = std::min(dtloc, thermal_cfl * state[i][RHO] * mt.cp * h * h / mt.kappa);
+    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i],
+                                                state[i][RHO], cfl, heat_active, thermal_cfl));
   }
+  return finish_dt(dtloc);
+}
+
+double FixSPHJCThermal::finish_dt(double dtloc)
+{
   double dtnew;
   MPI_Allreduce(&dtloc, &dtnew, 1, MPI_DOUBLE, MPI_MIN, world);
   if (dtmax > 0.0) dtnew = std::min(dtnew, dtmax);
@@ -465,39 +394,30 @@ void FixSPHJCThermal::setup(int)
    a piece out
 ------------------------------------------------------------------------- */
 
+void FixSPHJCThermal::attach(sphcut::TimedStyle *style)
+{
+  if (std::find(timed.begin(), timed.end(), style) == timed.end()) timed.push_back(style);
+}
+
 void FixSPHJCThermal::reset_timers()
 {
   run_start = MPI_Wtime();
   cpu_time = 0.0;
-  pair->cpu_time = 0.0;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (auto *h = dynamic_cast<FixHeatFMFS *>(modify->fix[i])) h->cpu_time = 0.0;
-    if (auto *c = dynamic_cast<FixContactTriPenalty *>(modify->fix[i])) c->cpu_time = 0.0;
-  }
-  for (int i = 0; i < modify->ncompute; i++)
-    if (auto *c = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[i])) c->cpu_time = 0.0;
+  for (auto *t : timed) t->cpu_time = 0.0;
 }
 
 void FixSPHJCThermal::post_run()
 {
+  // the list is rebuilt by the styles' init() of the next run (styles may be deleted in between)
+  std::vector<sphcut::TimedStyle *> attached;
+  attached.swap(timed);
   if (update->nsteps <= 0) return;
-  std::vector<std::string> names = {"pair sph/jc-thermal", "fix sph/jc-thermal (integration)"};
-  std::vector<double> t = {pair->cpu_time, cpu_time};
-  for (int i = 0; i < modify->nfix; i++) {
-    if (auto *h = dynamic_cast<FixHeatFMFS *>(modify->fix[i])) {
-      names.push_back(std::string("fix heat/fmfs ") + h->id);
-      t.push_back(h->cpu_time);
-    }
-    if (auto *c = dynamic_cast<FixContactTriPenalty *>(modify->fix[i])) {
-      names.push_back(std::string("fix contact/tri-penalty ") + c->id);
-      t.push_back(c->cpu_time);
-    }
+  std::vector<std::string> names = {timing_name()};
+  std::vector<double> t = {cpu_time};
+  for (auto *ts : attached) {
+    names.push_back(ts->timing_name());
+    t.push_back(ts->cpu_time);
   }
-  for (int i = 0; i < modify->ncompute; i++)
-    if (auto *c = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[i])) {
-      names.push_back(std::string("compute surface/lambda ") + c->id);
-      t.push_back(c->cpu_time);
-    }
   // the rest of this rank's run (neighbour lists, communication, output, other fixes)
   const double total_me = MPI_Wtime() - run_start;
   double styles = 0.0;

@@ -15,29 +15,19 @@ FixStyle(sph/jc-thermal,FixSPHJCThermal);
 #define LMP_FIX_SPH_JC_THERMAL_H
 
 #include "fix.h"
+#include "sphcut_solid.h"
+#include "sphcut_timer.h"
 
 #include <string>
+#include <vector>
 
 namespace LAMMPS_NS {
 
 class PairSPHJCThermal;
 
-class FixSPHJCThermal : public Fix {
+// the state columns (Column, Role, NCOL, NFORWARD, ...) are those of sphcut::StateLayout
+class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::TimedStyle {
  public:
-  // columns of the per-atom array (dump custom f_ID[k] uses k = column + 1)
-  enum Column {
-    RHO = 0, PRESS, SXX, SYY, SZZ, SXY, SXZ, SYZ, VM, EPS, EPSDOT, TEMP, ROLE, UINT,
-    DTEMP,                                  // temperature rate of this step (all heat sources)
-    NOUT,                                   // columns above are the documented output
-    RHO_F = NOUT, SF, TEMP_F = SF + 6, VEST, // state the forces are computed from (predictor)
-    DRHO = VEST + 3, DS, DU = DS + 6,       // rates of this step (pair adds)
-    DRHO_O, DS_O, DTEMP_O = DS_O + 6, DU_O, // rates of the previous step
-    XSPH, VEND = XSPH + 3,                  // XSPH velocity correction, v at end of last step
-    NCOL = VEND + 3
-  };
-  enum Role { WORKPIECE = 0, TOOL = 1, CLAMPED = 2 };
-  static constexpr int LAYOUT = 2;    // bump when the column layout changes (restart check)
-
   FixSPHJCThermal(class LAMMPS *, int, char **);
   ~FixSPHJCThermal() override;
   int setmask() override;
@@ -70,12 +60,11 @@ class FixSPHJCThermal : public Fix {
   // interface for the pair style and the heat / contact fixes
   double **state;             // per-atom state, NCOL columns (see Column)
   int toolbit, clampbit;      // group bits of the tool and clamped particles
-  int role_of(int mask) const
-  {
-    return (mask & toolbit) ? TOOL : ((mask & clampbit) ? CLAMPED : WORKPIECE);
-  }
+  int role_of(int mask) const { return sphcut::role_from_mask(mask, toolbit, clampbit); }
   double dt_used() const { return dtv; }
-  double cpu_time = 0.0;      // wall time of the integration on this rank (timing table)
+  std::string timing_name() const override { return "fix sph/jc-thermal (integration)"; }
+  // timing table: the styles that report their time (each attaches itself in its init)
+  void attach(sphcut::TimedStyle *style);
   // for the other sphcut styles: the pair style and this fix, or an error that names `who`
   // (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
   static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
@@ -92,9 +81,11 @@ class FixSPHJCThermal : public Fix {
   double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
   int heat_active;            // a heat fix integrates conduction: apply the thermal limit
   double plastic_work;        // accumulated plastic work (energy units), this rank
+  std::vector<sphcut::TimedStyle *> timed;    // attached styles, this run
   void initialize_atom(int);
-  void predict(int i, const double *mass, const double *rmass, const int *type);
-  double stable_dt();
+  void setup_state();         // host part of setup_pre_force: complete the state of new atoms
+  virtual double stable_dt(); // this step's stable dt (global min)
+  double finish_dt(double dtloc);    // global min over the ranks, then dtmin/dtmax
   void apply_dt(double);
   double run_start;           // wall clock at the setup of the run
   void reset_timers();

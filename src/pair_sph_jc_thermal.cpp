@@ -42,15 +42,14 @@
 using namespace LAMMPS_NS;
 using sphcut::Material;
 
-static constexpr int NREVERSE = 1 + 9 + 9 + 1 + 3;
+static constexpr int NREVERSE = sphcut::NACC_REVERSE;
 static constexpr double UNSET = -1.0e300;
 
 /* ---------------------------------------------------------------------- */
 
 PairSPHJCThermal::PairSPHJCThermal(LAMMPS *lmp) :
-    Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), fix(nullptr),
-    nmax(0), sig(nullptr), rstress(nullptr), drho_acc(nullptr), lgrad(nullptr), bmat(nullptr),
-    du_acc(nullptr), xs_acc(nullptr)
+    Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), tpair(nullptr),
+    fix(nullptr), nmax(0), sig(nullptr), rstress(nullptr), acc(nullptr)
 {
   restartinfo = 1;
   single_enable = 0;
@@ -69,6 +68,7 @@ PairSPHJCThermal::~PairSPHJCThermal()
     memory->destroy(hdx);
     memory->destroy(wdp);
     memory->destroy(dp);
+    memory->destroy(tpair);
     delete[] mat;
   }
   free_scratch();
@@ -78,11 +78,7 @@ void PairSPHJCThermal::free_scratch()
 {
   memory->destroy(sig);
   memory->destroy(rstress);
-  memory->destroy(drho_acc);
-  memory->destroy(lgrad);
-  memory->destroy(bmat);
-  memory->destroy(du_acc);
-  memory->destroy(xs_acc);
+  memory->destroy(acc);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -97,6 +93,7 @@ void PairSPHJCThermal::allocate()
   memory->create(hdx, n + 1, n + 1, "pair:hdx");
   memory->create(wdp, n + 1, n + 1, "pair:wdp");
   memory->create(dp, n + 1, "pair:dp");
+  memory->create(tpair, n + 1, n + 1, "pair:tpair");
   mat = new Material[n + 1];
   memset(mat, 0, (n + 1) * sizeof(Material));
   for (int i = 0; i <= n; i++) {
@@ -117,11 +114,7 @@ void PairSPHJCThermal::grow_scratch(int n)
   free_scratch();
   memory->create(sig, nmax, 6, "pair:sig");
   memory->create(rstress, nmax, 6, "pair:rstress");
-  memory->create(drho_acc, nmax, "pair:drho");
-  memory->create(lgrad, nmax, 9, "pair:lgrad");
-  memory->create(bmat, nmax, 9, "pair:bmat");
-  memory->create(du_acc, nmax, "pair:du");
-  memory->create(xs_acc, nmax, 3, "pair:xsph");
+  memory->create(acc, nmax, sphcut::NACC, "pair:acc");
 }
 
 /* ----------------------------------------------------------------------
@@ -312,6 +305,7 @@ void PairSPHJCThermal::init_style()
     if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
       fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
   if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
+  fix->attach(this);
   // the scheme applies no unit conversion factors: only self-consistent unit styles
   const std::string units = update->unit_style;
   if (units != "si" && units != "cgs" && units != "micro" && units != "nano" && units != "lj")
@@ -364,6 +358,7 @@ double PairSPHJCThermal::init_one(int i, int j)
   hdx[j][i] = hdx[i][j];
   if (dpij <= 0.0) dpij = hlen[i][j] / 1.2;
   wdp[i][j] = wdp[j][i] = sphcut::kernel_w(kernel_kind, domain->dimension, dpij, hlen[i][j]);
+  tpair[i][j] = tpair[j][i] = sphcut::mix_type_pair(mat[i], mat[j], hlen[i][j], wdp[i][j]);
   return 2.0 * hlen[i][j];
 }
 
@@ -392,19 +387,11 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
     if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
   const int nacc = newton_pair ? nall : nlocal;
   for (int i = 0; i < nall; i++) {
-    if (i < nacc) {
-      drho_acc[i] = du_acc[i] = 0.0;
-      for (int k = 0; k < 9; k++) lgrad[i][k] = bmat[i][k] = 0.0;
-      xs_acc[i][0] = xs_acc[i][1] = xs_acc[i][2] = 0.0;
-    }
+    if (i < nacc)
+      for (int k = 0; k < sphcut::NACC; k++) acc[i][k] = 0.0;
     if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
-    const Material &mt = mat[type[i]];
-    const double p = sphcut::eos_pressure(mt, st[i][F::RHO_F], st[i][F::TEMP_F]);
-    sphcut::cauchy_stress(&st[i][F::SF], p, sig[i]);
-    if (any_as) {
-      if (mt.as_eps > 0.0) sphcut::artificial_stress(mt.as_eps, sig[i], st[i][F::RHO_F], dim, rstress[i]);
-      else for (int k = 0; k < 6; k++) rstress[i][k] = 0.0;
-    }
+    const double *s = st[i];
+    sphcut::particle_stress(mat[type[i]], dim, any_as, s[F::RHO_F], s[F::TEMP_F], &s[F::SF], sig[i], rstress[i]);
   }
 
   if (dim == 2) {
@@ -421,26 +408,12 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     double *s = st[i];
-    const Material &mt = mat[type[i]];
-    double L[9];
-    if (correction) {
-      double binv[9];
-      if (dim == 2) {
-        bmat[i][2] = bmat[i][5] = bmat[i][6] = bmat[i][7] = 0.0;
-        bmat[i][8] = 1.0;
-      }
-      sphcut::mat_inverse(bmat[i], binv, dim);
-      sphcut::mat_mul(lgrad[i], binv, L);
-    } else {
-      for (int k = 0; k < 9; k++) L[k] = lgrad[i][k];
-    }
-    if (dim == 2) L[2] = L[5] = L[6] = L[7] = L[8] = 0.0;
-    double ds[6];
-    sphcut::jaumann_rate(mt, L, &s[F::SF], ds);
-    s[F::DRHO] += -s[F::RHO_F] * drho_acc[i];
+    double drho, ds[6], du;
+    sphcut::particle_rates(mat[type[i]], dim, correction, acc[i], &s[F::SF], s[F::RHO_F], drho, ds, du);
+    s[F::DRHO] += drho;
     for (int k = 0; k < 6; k++) s[F::DS + k] += ds[k];
-    s[F::DU] += du_acc[i];
-    for (int a = 0; a < 3; a++) s[F::XSPH + a] = xs_acc[i][a];
+    s[F::DU] += du;
+    for (int a = 0; a < 3; a++) s[F::XSPH + a] = acc[i][sphcut::ACC_XS + a];
   }
 
   if (vflag_fdotr) virial_fdotr_compute();
@@ -475,13 +448,14 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     const int i = ilist[ii];
     if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const int itype = type[i];
-    const Material &mi_mat = mat[itype];
     const double *si = st[i];
     const double mi = rmass ? rmass[i] : mass[itype];
     const double vi = mi / si[F::RHO_F];
     in.rho_i = si[F::RHO_F];
     in.sig_i = sig[i];
     in.R_i = any_as ? rstress[i] : nullptr;
+    double *acci = acc[i], *fi = f[i];
+    auto add_i = [acci, fi](int k, double val) { if (k < 3) fi[k] += val; else acci[k] += val; };
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
 
@@ -489,49 +463,27 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
       const int j = jlist[jj] & NEIGHMASK;
       if (!(mask[j] & groupbit) || fix->role_of(mask[j]) == F::TOOL) continue;
       const int jtype = type[j];
+      const sphcut::TypePair &tp = tpair[itype][jtype];
       for (int a = 0; a < 3; a++) in.dx[a] = x[i][a] - x[j][a];
       in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-      if (in.r2 >= cutsq[itype][jtype] || in.r2 == 0.0) continue;
+      if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
 
       const double *sj = st[j];
-      const Material &mj_mat = mat[jtype];
       const double mj = rmass ? rmass[j] : mass[jtype];
-      const double vj = mj / sj[F::RHO_F];
       for (int a = 0; a < 3; a++) in.dv[a] = sj[F::VEST + a] - si[F::VEST + a];
-      in.h = hlen[itype][jtype];
-      in.wdp = wdp[itype][jtype];
+      sphcut::set_type_pair(tp, in);
       in.rho_j = sj[F::RHO_F];
       in.sig_j = sig[j];
       in.R_j = any_as ? rstress[j] : nullptr;
-      in.as_n = 0.5 * (mi_mat.as_n + mj_mat.as_n);
-      in.alpha = 0.5 * (mi_mat.av_alpha + mj_mat.av_alpha);
-      in.beta = 0.5 * (mi_mat.av_beta + mj_mat.av_beta);
-      in.cbar = 0.5 * (mi_mat.c0 + mj_mat.c0);
       sphcut::pair_terms<DIM>(kernel_kind, in, out);
 
       const double mm = mi * mj;
-      const double xsfac = out.w / (0.5 * (in.rho_i + in.rho_j));
-      for (int a = 0; a < DIM; a++) f[i][a] += mm * out.Mg[a];
-      drho_acc[i] += vj * out.dvg;
-      du_acc[i] += 0.5 * mj * out.work;
-      for (int a = 0; a < DIM; a++) {
-        xs_acc[i][a] += mj * xsfac * in.dv[a];
-        for (int b = 0; b < DIM; b++) {
-          lgrad[i][3 * a + b] += vj * in.dv[a] * out.g[b];
-          bmat[i][3 * a + b] -= vj * in.dx[a] * out.g[b];
-        }
-      }
+      sphcut::pair_accumulate<DIM>(in, out, mm, mj, mj / sj[F::RHO_F], 1.0, add_i);
       if (NEWTON || j < nlocal) {
-        for (int a = 0; a < DIM; a++) f[j][a] -= mm * out.Mg[a];
-        drho_acc[j] += vi * out.dvg;
-        du_acc[j] += 0.5 * mi * out.work;
-        for (int a = 0; a < DIM; a++) {
-          xs_acc[j][a] -= mi * xsfac * in.dv[a];
-          for (int b = 0; b < DIM; b++) {
-            lgrad[j][3 * a + b] += vi * in.dv[a] * out.g[b];
-            bmat[j][3 * a + b] -= vi * in.dx[a] * out.g[b];
-          }
-        }
+        double *accj = acc[j], *fj = f[j];
+        sphcut::pair_accumulate<DIM>(in, out, mm, mi, vi, -1.0, [accj, fj](int k, double val) {
+          if (k < 3) fj[k] += val; else accj[k] += val;
+        });
       }
     }
   }
@@ -542,13 +494,8 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
 int PairSPHJCThermal::pack_reverse_comm(int n, int first, double *buf)
 {
   int m = 0;
-  for (int i = first; i < first + n; i++) {
-    buf[m++] = drho_acc[i];
-    for (int k = 0; k < 9; k++) buf[m++] = lgrad[i][k];
-    for (int k = 0; k < 9; k++) buf[m++] = bmat[i][k];
-    buf[m++] = du_acc[i];
-    for (int k = 0; k < 3; k++) buf[m++] = xs_acc[i][k];
-  }
+  for (int i = first; i < first + n; i++)
+    for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) buf[m++] = acc[i][k];
   return m;
 }
 
@@ -557,11 +504,7 @@ void PairSPHJCThermal::unpack_reverse_comm(int n, int *list, double *buf)
   int m = 0;
   for (int ii = 0; ii < n; ii++) {
     const int i = list[ii];
-    drho_acc[i] += buf[m++];
-    for (int k = 0; k < 9; k++) lgrad[i][k] += buf[m++];
-    for (int k = 0; k < 9; k++) bmat[i][k] += buf[m++];
-    du_acc[i] += buf[m++];
-    for (int k = 0; k < 3; k++) xs_acc[i][k] += buf[m++];
+    for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) acc[i][k] += buf[m++];
   }
 }
 
@@ -631,5 +574,5 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
 
 double PairSPHJCThermal::memory_usage()
 {
-  return (double) nmax * (6 + 6 + 1 + 9 + 9 + 1 + 3) * sizeof(double);
+  return (double) nmax * (6 + 6 + sphcut::NACC) * sizeof(double);
 }

@@ -13,13 +13,14 @@ PairStyle(sph/jc-thermal,PairSPHJCThermal);
 #define LMP_PAIR_SPH_JC_THERMAL_H
 
 #include "pair.h"
-#include "sphcut_material.h"
+#include "sphcut_pair.h"
+#include "sphcut_timer.h"
 
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
 
-class PairSPHJCThermal : public Pair {
+class PairSPHJCThermal : public Pair, public sphcut::TimedStyle {
  public:
   PairSPHJCThermal(class LAMMPS *);
   ~PairSPHJCThermal() override;
@@ -40,10 +41,12 @@ class PairSPHJCThermal : public Pair {
   const sphcut::Material *materials() const { return mat; }
   double smoothing_length(int itype) const { return hlen[itype][itype]; }
   double smoothing_length(int itype, int jtype) const { return hlen[itype][jtype]; }
+  const sphcut::TypePair &type_pair(int itype, int jtype) const { return tpair[itype][jtype]; }
+  int renormalised() const { return correction; }
   int kernel() const { return kernel_kind; }
   double spacing(int itype) const { return dp[itype]; }    // (m/rho0)^(1/d), set in init_style
   FixSPHJCThermal *state_fix() const { return fix; }
-  double cpu_time = 0.0;          // wall time of compute() on this rank (sphcut timing table)
+  std::string timing_name() const override { return "pair sph/jc-thermal"; }
 
  protected:
   int kernel_kind;
@@ -53,10 +56,12 @@ class PairSPHJCThermal : public Pair {
   double **hdx;                   // h given as a multiple of the particle spacing (0: not used)
   double **wdp;                   // W(dp) per type pair (artificial stress reference)
   double *dp;                     // particle spacing per type, from mass and rho0
+  sphcut::TypePair **tpair;       // constants of each type pair (sphcut::mix_type_pair)
   FixSPHJCThermal *fix;
 
   int nmax;                       // scratch arrays, local + ghost
-  double **sig, **rstress, *drho_acc, **lgrad, **bmat, *du_acc, **xs_acc;
+  double **sig, **rstress;        // Cauchy and artificial stress of the force state
+  double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F goes to atom->f)
 
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);

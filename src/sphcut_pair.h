@@ -76,6 +76,110 @@ SPHCUT_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
   }
 }
 
+/* ---- constants of a type pair (mixing rules) --------------------------
+   h and W(dp) come from the pair style's settings; the stabilisation
+   parameters of a pair are the means of the two materials'.             */
+struct TypePair {
+  double h, cutsq, wdp;       // smoothing length, (2h)^2, W(mean particle spacing)
+  double as_n;                // artificial stress exponent
+  double alpha, beta, cbar;   // artificial viscosity, mean bulk sound speed
+};
+
+SPHCUT_INLINE TypePair mix_type_pair(const Material &mi, const Material &mj, double h, double wdp)
+{
+  TypePair tp;
+  tp.h = h;
+  tp.cutsq = 4.0 * h * h;
+  tp.wdp = wdp;
+  tp.as_n = 0.5 * (mi.as_n + mj.as_n);
+  tp.alpha = 0.5 * (mi.av_alpha + mj.av_alpha);
+  tp.beta = 0.5 * (mi.av_beta + mj.av_beta);
+  tp.cbar = 0.5 * (mi.c0 + mj.c0);
+  return tp;
+}
+
+SPHCUT_INLINE void set_type_pair(const TypePair &tp, PairIn &in)
+{
+  in.h = tp.h;
+  in.wdp = tp.wdp;
+  in.as_n = tp.as_n;
+  in.alpha = tp.alpha;
+  in.beta = tp.beta;
+  in.cbar = tp.cbar;
+}
+
+/* ---- the sums a particle gathers from its neighbours --------------------
+   index layout of one particle's accumulator row (ACC_F: the force, which
+   the drivers keep in atom->f; the rest travel in reverse communication)   */
+enum PairAcc {
+  ACC_F = 0,                  // m_i m_j M_ij grad_i W_ij (3)
+  ACC_DRHO = 3,               // sum_j V_j (v_j - v_i) . grad_i W_ij
+  ACC_DU,                     // 1/2 sum_j m_j (v_j - v_i) . M_ij grad_i W_ij
+  ACC_XS,                     // sum_j m_j / rho_ij (v_j - v_i) W_ij (3)
+  ACC_L = ACC_XS + 3,         // sum_j V_j (v_j - v_i) (x) grad_i W_ij (9, row major)
+  ACC_B = ACC_L + 9,          // -sum_j V_j (x_i - x_j) (x) grad_i W_ij (9): renormalisation
+  NACC = ACC_B + 9,
+  ACC_FIRST_REVERSE = ACC_DRHO,
+  NACC_REVERSE = NACC - ACC_DRHO
+};
+
+/* add the contribution of pair i-j to one of the two particles through
+   add(index, value): side = +1 for i (m_o, V_o: mass and volume of j),
+   side = -1 for j (m_o, V_o of i).  Force and XSPH are antisymmetric, the
+   others symmetric (grad_j W_ij = -grad_i W_ij, v_i - v_j = -(v_j - v_i)). */
+template <int DIM, class Add>
+SPHCUT_INLINE void pair_accumulate(const PairIn &in, const PairOut &out, double mm, double m_o,
+                                   double V_o, double side, Add &&add)
+{
+  const double xsfac = m_o * out.w / (0.5 * (in.rho_i + in.rho_j));
+  for (int a = 0; a < DIM; a++) add(ACC_F + a, side * mm * out.Mg[a]);
+  add(ACC_DRHO, V_o * out.dvg);
+  add(ACC_DU, 0.5 * m_o * out.work);
+  for (int a = 0; a < DIM; a++) {
+    add(ACC_XS + a, side * xsfac * in.dv[a]);
+    for (int b = 0; b < DIM; b++) {
+      add(ACC_L + 3 * a + b, V_o * in.dv[a] * out.g[b]);
+      add(ACC_B + 3 * a + b, -V_o * in.dx[a] * out.g[b]);
+    }
+  }
+}
+
+/* ---- per particle, after the neighbour sums: the rates -----------------
+   L = (sum V_j dv (x) grad W) B^-1 (renormalised, exact for linear velocity
+   fields) or the plain sum; then the Jaumann rate of the force-state stress
+   sf.  Results: drho = -rho_f sum V_j dv.gradW, ds (Voigt), du.          */
+SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, const double *acc,
+                                  const double *sf, double rho_f, double &drho, double *ds, double &du)
+{
+  double L[9];
+  if (correction) {
+    double b[9], binv[9];
+    for (int k = 0; k < 9; k++) b[k] = acc[ACC_B + k];
+    if (dim == 2) {
+      b[2] = b[5] = b[6] = b[7] = 0.0;
+      b[8] = 1.0;
+    }
+    mat_inverse(b, binv, dim);
+    mat_mul(&acc[ACC_L], binv, L);
+  } else {
+    for (int k = 0; k < 9; k++) L[k] = acc[ACC_L + k];
+  }
+  if (dim == 2) L[2] = L[5] = L[6] = L[7] = L[8] = 0.0;
+  jaumann_rate(mt, L, sf, ds);
+  drho = -rho_f * acc[ACC_DRHO];
+  du = acc[ACC_DU];
+}
+
+// Cauchy stress and artificial stress of a particle's force state (local and ghost)
+SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, double rho_f, double temp_f,
+                                   const double *sf, double *sig, double *R)
+{
+  cauchy_stress(sf, eos_pressure(mt, rho_f, temp_f), sig);
+  if (!with_as) return;
+  if (mt.as_eps > 0.0) artificial_stress(mt.as_eps, sig, rho_f, dim, R);
+  else for (int k = 0; k < 6; k++) R[k] = 0.0;
+}
+
 }    // namespace sphcut
 
 #endif

@@ -9,6 +9,8 @@
 
 #include <mpi.h>
 
+#include <string>
+
 namespace sphcut {
 
 class ScopedTimer {
@@ -21,6 +23,15 @@ class ScopedTimer {
  private:
   double &acc_;
   double t0_;
+};
+
+// a sphcut style with a row in the timing table: it attaches itself to fix sph/jc-thermal
+// in its init (FixSPHJCThermal::attach) and adds the wall time of its work to cpu_time
+class TimedStyle {
+ public:
+  virtual ~TimedStyle() = default;
+  virtual std::string timing_name() const = 0;
+  double cpu_time = 0.0;
 };
 
 }    // namespace sphcut

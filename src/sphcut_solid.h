@@ -1,0 +1,129 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - time integration of one SPH solid particle (host and device):
+   what fix sph/jc-thermal and fix sph/jc-thermal/kk do per particle, on a
+   state row laid out as sphcut::StateLayout (seed 003 eqs. 1-3, 5, 9-11).
+     first half  (initial_integrate): keep the rates of the last step, kick
+       v by dt/2 f/m, drift x with the XSPH-corrected velocity (Monaghan
+       1989), predictor y* = y^n + dt f^n of rho, s, T, radial return;
+     rates       (pre_force): zeroed, then the pair and the heat sources add;
+     second half (final_integrate): kick, corrector y^{n+1} = y^n + dt/2
+       (f^n + f^{n+1}) of rho, s, u, T, radial return, plastic heat chi W_p;
+     time step   the stable dt of the particle (mechanics, conduction).
+   Rigid tool particles move with their prescribed velocity and carry only
+   a temperature; clamped particles stay at rest but keep their stress.
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_SOLID_H
+#define SPHCUT_SOLID_H
+
+#include "sphcut_material.h"
+#include "sphcut_state.h"
+
+namespace sphcut {
+
+using SL = StateLayout;
+
+// role of a particle from its group mask (tool first, then clamped)
+SPHCUT_INLINE int role_from_mask(int mask, int toolbit, int clampbit)
+{
+  return (mask & toolbit) ? SL::TOOL : ((mask & clampbit) ? SL::CLAMPED : SL::WORKPIECE);
+}
+
+// predictor of the material state: the force state of this step
+SPHCUT_INLINE void predict_state(const Material &mt, double dt, double *s)
+{
+  s[SL::RHO_F] = s[SL::RHO] + dt * s[SL::DRHO_O];
+  for (int k = 0; k < 6; k++) s[SL::SF + k] = s[SL::SXX + k] + dt * s[SL::DS_O + k];
+  s[SL::TEMP_F] = s[SL::TEMP] + dt * s[SL::DTEMP_O];
+  radial_return(mt, &s[SL::SF], s[SL::EPS], s[SL::TEMP_F], dt, nullptr);
+}
+
+/* initial_integrate of one particle: x, v are the particle's rows, f its
+   force, dtfm = dt/2 ftm2v / m, eps_xsph the XSPH factor of its material  */
+SPHCUT_INLINE void integrate_first_half(const Material &mt, int role, double dt, double dtfm,
+                                        double *x, double *v, const double *f, double *s)
+{
+  s[SL::DRHO_O] = s[SL::DRHO];
+  for (int k = 0; k < 6; k++) s[SL::DS_O + k] = s[SL::DS + k];
+  s[SL::DTEMP_O] = s[SL::DTEMP];
+  s[SL::DU_O] = s[SL::DU];
+  if (role == SL::TOOL) {
+    for (int d = 0; d < 3; d++) {
+      x[d] += dt * v[d];
+      s[SL::VEST + d] = v[d];
+    }
+    s[SL::TEMP_F] = s[SL::TEMP] + dt * s[SL::DTEMP_O];
+    return;
+  }
+  if (role == SL::CLAMPED) {
+    for (int d = 0; d < 3; d++) v[d] = s[SL::VEST + d] = 0.0;
+  } else {
+    for (int d = 0; d < 3; d++) {
+      s[SL::VEST + d] = v[d] + 2.0 * dtfm * f[d];    // velocity estimate at the end of the step
+      v[d] += dtfm * f[d];
+      x[d] += dt * (v[d] + mt.xsph * s[SL::XSPH + d]);
+    }
+  }
+  predict_state(mt, dt, s);
+}
+
+// clear the rates of this step (pre_force)
+SPHCUT_INLINE void zero_rates(double *s)
+{
+  s[SL::DRHO] = 0.0;
+  for (int k = 0; k < 6; k++) s[SL::DS + k] = 0.0;
+  s[SL::DTEMP] = 0.0;
+  s[SL::DU] = 0.0;
+}
+
+/* final_integrate of one particle; m its mass.  Returns the plastic work of
+   the step (energy units), which has already heated the particle.        */
+SPHCUT_INLINE double integrate_second_half(const Material &mt, int role, double dt, double dtfm,
+                                           double m, double *v, const double *f, double *s)
+{
+  const double hdt = 0.5 * dt;
+  double work = 0.0;
+  s[SL::TEMP] += hdt * (s[SL::DTEMP_O] + s[SL::DTEMP]);
+  if (role != SL::TOOL) {
+    if (role == SL::WORKPIECE)
+      for (int d = 0; d < 3; d++) v[d] += dtfm * f[d];
+    s[SL::RHO] += hdt * (s[SL::DRHO_O] + s[SL::DRHO]);
+    for (int k = 0; k < 6; k++) s[SL::SXX + k] += hdt * (s[SL::DS_O + k] + s[SL::DS + k]);
+    s[SL::UINT] += hdt * (s[SL::DU_O] + s[SL::DU]);
+    double sigy = 0.0;
+    const double deps = radial_return(mt, &s[SL::SXX], s[SL::EPS], s[SL::TEMP], dt, &sigy);
+    s[SL::EPS] += deps;
+    s[SL::EPSDOT] = deps / dt;
+    if (deps > 0.0) {
+      const double wp = sigy * deps / s[SL::RHO];    // plastic work per unit mass
+      work = m * wp;
+      if (mt.cp > 0.0) s[SL::TEMP] += mt.chi * wp / mt.cp;
+    }
+    s[SL::PRESS] = eos_pressure(mt, s[SL::RHO], s[SL::TEMP]);
+    s[SL::VM] = von_mises(&s[SL::SXX]);
+  }
+  for (int d = 0; d < 3; d++) s[SL::VEND + d] = v[d];
+  return work;
+}
+
+/* stable time step of one particle (adaptive dt, keyword cfl):
+     dt = cfl h / (c_l + |v|)                      (mechanics, not for tool particles)
+     dt <= thermal_cfl rho cp h^2 / k              (with a heat fix)            */
+SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double rho,
+                                 double cfl, int heat_active, double thermal_cfl)
+{
+  double dt = 1.0e300;
+  if (role != SL::TOOL) {
+    const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    dt = cfl * h / (mt.cl + vv);
+  }
+  if (heat_active && mt.kappa > 0.0 && mt.cp > 0.0) {
+    const double dth = thermal_cfl * rho * mt.cp * h * h / mt.kappa;
+    if (dth < dt) dt = dth;
+  }
+  return dt;
+}
+
+}    // namespace sphcut
+
+#endif
