@@ -1,0 +1,80 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - fix sph/jc-thermal/kk: the SPH solid state and its time
+   integration on the Kokkos device.  The per-particle arithmetic is that
+   of the CPU fix (src/sphcut_solid.h); this class keeps the state in a
+   DualView whose host view backs FixSPHJCThermal::state, so restart,
+   exchange, dumps and f_ID outputs work as for the CPU style.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(sph/jc-thermal/kk,FixSPHJCThermalKokkos<LMPDeviceType>);
+FixStyle(sph/jc-thermal/kk/device,FixSPHJCThermalKokkos<LMPDeviceType>);
+FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_SPH_JC_THERMAL_KOKKOS_H
+#define LMP_FIX_SPH_JC_THERMAL_KOKKOS_H
+
+#include "fix_sph_jc_thermal.h"
+#include "kokkos_base.h"
+#include "kokkos_type.h"
+#include "sphcut_material.h"
+
+namespace LAMMPS_NS {
+
+// what the /kk pair needs of the fix, whatever device type the fix was built for
+class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
+ public:
+  FixSPHJCThermalKokkosBase(class LAMMPS *lmp, int narg, char **arg) : FixSPHJCThermal(lmp, narg, arg) {}
+  DAT::tdual_double_2d k_state;    // host view = FixSPHJCThermal::state
+};
+
+template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermalKokkosBase {
+ public:
+  typedef DeviceType device_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typedef Kokkos::View<sphcut::Material *, typename DeviceType::memory_space> t_mat;
+  typedef Kokkos::View<double *, typename DeviceType::memory_space> t_h;
+
+  FixSPHJCThermalKokkos(class LAMMPS *, int, char **);
+  ~FixSPHJCThermalKokkos() override;
+  int setmask() override;
+  void init() override;
+  void setup_pre_force(int) override;
+  void setup(int) override;
+  void initial_integrate(int) override;
+  void pre_force(int) override;
+  void final_integrate() override;
+  void end_of_step() override;
+  void post_run() override;
+  double compute_vector(int) override;
+
+  void grow_arrays(int) override;
+  void set_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
+  void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+
+  double stable_dt() override;
+
+ protected:
+  t_mat d_mat;                 // materials per type (device copy of the pair's)
+  t_h d_h;                     // smoothing length per type
+  double dt_next;              // this rank's stable dt, from final_integrate's reduction
+  void upload_tables();
+  void sync_host_state() { k_state.sync_host(); }
+  void modified_host_state() { k_state.modify_host(); }
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,389 @@
+/* ----------------------------------------------------------------------
+   sphcut - pair_style sph/jc-thermal/kk (see the header for the passes)
+------------------------------------------------------------------------- */
+
+#include "pair_sph_jc_thermal_kokkos.h"
+
+#include "atom_kokkos.h"
+#include "atom_masks.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_jc_thermal_kokkos.h"
+#include "force.h"
+#include "kokkos.h"
+#include "memory_kokkos.h"
+#include "neigh_list_kokkos.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "pair_kokkos.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_kokkos.h"
+#include "sphcut_pair.h"
+
+using namespace LAMMPS_NS;
+using sphcut::StateLayout;
+
+namespace {
+
+// sums of one particle kept in registers
+struct LocalAdd {
+  double *acc;
+  KOKKOS_INLINE_FUNCTION void operator()(int k, double val) const { acc[k] += val; }
+};
+
+// sums of another particle: atomics into the per-atom table and the force
+template <class DeviceType> struct AtomicAdd {
+  typename ArrayTypes<DeviceType>::t_double_2d acc;
+  typename ArrayTypes<DeviceType>::t_f_array f;
+  int j;
+  KOKKOS_INLINE_FUNCTION void operator()(int k, double val) const
+  {
+    if (k < 3) Kokkos::atomic_add(&f(j, k), val);
+    else Kokkos::atomic_add(&acc(j, k), val);
+  }
+};
+
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType>
+PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
+    PairSPHJCThermal(lmp), neighflag(FULL), nmax_kk(0), fixkk(nullptr), tables_ready(0)
+{
+  sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk");
+  kokkosable = 1;
+  atomKK = (AtomKokkos *) atom;
+  execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
+  datamask_read = X_MASK | F_MASK | TYPE_MASK | MASK_MASK | RMASS_MASK;
+  datamask_modify = F_MASK;
+}
+
+template <class DeviceType> PairSPHJCThermalKokkos<DeviceType>::~PairSPHJCThermalKokkos()
+{
+  if (!copymode) memoryKK->destroy_kokkos(k_acc);
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style()
+{
+  PairSPHJCThermal::init_style();
+  fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
+  if (!fixkk)
+    error->all(FLERR, "Pair sph/jc-thermal/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  neighflag = lmp->kokkos->neighflag;
+  NeighRequest *rq = neighbor->requests[neighbor->nrequest - 1];
+  rq->kokkos_host = std::is_same<DeviceType, LMPHostType>::value && !std::is_same<DeviceType, LMPDeviceType>::value;
+  rq->kokkos_device = std::is_same<DeviceType, LMPDeviceType>::value;
+  if (neighflag == FULL) {
+    rq->full = 1;
+    rq->half = 0;
+  } else if (neighflag == HALF || neighflag == HALFTHREAD) {
+    rq->full = 0;
+    rq->half = 1;
+  } else {
+    error->all(FLERR, "Pair sph/jc-thermal/kk: neighbor list kind {} not supported (full, half, half/thread)",
+               neighflag);
+  }
+  tables_ready = 0;    // init_one runs after this: the tables go to the device at the first compute
+}
+
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::upload_tables()
+{
+  const int n = atom->ntypes + 1;
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(mat, n, "pair:mat");
+  std::vector<sphcut::TypePair> tp((size_t) n * n);
+  for (int i = 1; i < n; i++)
+    for (int j = 1; j < n; j++) tp[(size_t) i * n + j] = tpair[i][j];
+  d_tpair = sphcut::to_device<sphcut::TypePair, DeviceType>(tp.data(), n * n, "pair:tpair");
+  tables_ready = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int eflag, int vflag)
+{
+  sphcut::FencedTimer timer(cpu_time);
+  if (neighflag == FULL) no_virial_fdotr_compute = 1;
+  ev_init(eflag, vflag, 0);
+  atomKK->sync(execution_space, datamask_read);
+  atomKK->modified(execution_space, F_MASK);
+  if (!tables_ready) upload_tables();
+
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const int dim = domain->dimension;
+  if (atom->nmax > nmax_kk) {
+    nmax_kk = atom->nmax;
+    d_sig = typename AT::t_double_2d("pair:sig", nmax_kk, 6);
+    d_rstress = typename AT::t_double_2d("pair:rstress", nmax_kk, 6);
+    if (neighflag != FULL) {
+      memoryKK->destroy_kokkos(k_acc);
+      k_acc = DAT::tdual_double_2d("pair:acc", nmax_kk, sphcut::NACC);
+    }
+  }
+  int any_as = 0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
+
+  fixkk->k_state.template sync<DeviceType>();
+  stress_pass(nall, any_as);
+  const int inum = list->inum;
+  if (neighflag == FULL) {
+    if (dim == 2) full_pass<2>(inum, any_as);
+    else full_pass<3>(inum, any_as);
+  } else {
+    const int newton = force->newton_pair;
+    // clear the sums (ghosts too with newton: they come back by reverse communication)
+    k_acc.template sync<DeviceType>();
+    auto acc = k_acc.template view<DeviceType>();
+    Kokkos::parallel_for(
+        Kokkos::RangePolicy<DeviceType>(0, newton ? nall : nlocal), KOKKOS_LAMBDA(const int i) {
+          for (int k = 0; k < sphcut::NACC; k++) acc(i, k) = 0.0;
+        });
+    if (dim == 2) {
+      if (newton) half_pass<2, 1>(inum, any_as);
+      else half_pass<2, 0>(inum, any_as);
+    } else {
+      if (newton) half_pass<3, 1>(inum, any_as);
+      else half_pass<3, 0>(inum, any_as);
+    }
+    k_acc.template modify<DeviceType>();
+    if (newton) {
+      sphcut::reverse_comm(comm, this);    // host path in this LAMMPS version
+      k_acc.template sync<DeviceType>();
+    }
+    rates_pass(nlocal);
+  }
+  fixkk->k_state.template modify<DeviceType>();
+
+  if (vflag_fdotr) {
+    // half lists only (fdotr is not valid for a full list)
+    EV_FLOAT ev;
+    Kokkos::parallel_reduce(nall, PairVirialFDotRCompute<DeviceType>(atomKK->k_x.view<DeviceType>(),
+                                                                      atomKK->k_f.view<DeviceType>(), 0), ev);
+    for (int k = 0; k < 6; k++) virial[k] = ev.v[k];
+    vflag_fdotr = 0;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Cauchy and artificial stress of the force state, local and ghost
+------------------------------------------------------------------------- */
+
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass(int nall, int any_as)
+{
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto sig = d_sig;
+  auto rs = d_rstress;
+  auto mt = d_mat;
+  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == StateLayout::TOOL) return;
+        sphcut::particle_stress(mt(type(i)), dim, any_as, st(i, StateLayout::RHO_F), st(i, StateLayout::TEMP_F),
+                                &st(i, StateLayout::SF), &sig(i, 0), &rs(i, 0));
+      });
+}
+
+/* ----------------------------------------------------------------------
+   full list: every pair seen from both particles, sums in registers
+------------------------------------------------------------------------- */
+
+template <class DeviceType>
+template <int DIM>
+void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
+{
+  auto x = atomKK->k_x.view<DeviceType>();
+  auto f = atomKK->k_f.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto sig = d_sig;
+  auto rs = d_rstress;
+  auto mt = d_mat;
+  auto tpt = d_tpair;
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit;
+  const int kind = kernel_kind, corr = correction, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
+  using SL = StateLayout;
+
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
+        const int i = ilist(ii);
+        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
+        const int itype = type(i);
+        const double mi = use_rmass ? rmass(i) : mass(itype);
+        double acc[sphcut::NACC];
+        for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
+        sphcut::PairIn in;
+        sphcut::PairOut out;
+        in.rho_i = st(i, SL::RHO_F);
+        in.sig_i = &sig(i, 0);
+        in.R_i = any_as ? &rs(i, 0) : nullptr;
+        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        const double vi[3] = {st(i, SL::VEST), st(i, SL::VEST + 1), st(i, SL::VEST + 2)};
+        const int jnum = numneigh(i);
+        for (int jj = 0; jj < jnum; jj++) {
+          const int j = neighbors(i, jj) & NEIGHMASK;
+          if (!(mask(j) & gb) || sphcut::role_from_mask(mask(j), tb, cb) == SL::TOOL) continue;
+          const int jtype = type(j);
+          const sphcut::TypePair &tp = tpt(itype * ntp + jtype);
+          for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - x(j, a);
+          in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+          if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
+          const double mj = use_rmass ? rmass(j) : mass(jtype);
+          for (int a = 0; a < 3; a++) in.dv[a] = st(j, SL::VEST + a) - vi[a];
+          sphcut::set_type_pair(tp, in);
+          in.rho_j = st(j, SL::RHO_F);
+          in.sig_j = &sig(j, 0);
+          in.R_j = any_as ? &rs(j, 0) : nullptr;
+          sphcut::pair_terms<DIM>(kind, in, out);
+          sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
+        }
+        for (int a = 0; a < 3; a++) f(i, a) += acc[sphcut::ACC_F + a];
+        double drho, ds[6], du;
+        sphcut::particle_rates(mt(itype), DIM, corr, acc, &st(i, SL::SF), st(i, SL::RHO_F), drho, ds, du);
+        st(i, SL::DRHO) += drho;
+        for (int k = 0; k < 6; k++) st(i, SL::DS + k) += ds[k];
+        st(i, SL::DU) += du;
+        for (int a = 0; a < 3; a++) st(i, SL::XSPH + a) = acc[sphcut::ACC_XS + a];
+      });
+}
+
+/* ----------------------------------------------------------------------
+   half list: each pair once, j's share by atomics (j < nlocal or newton)
+------------------------------------------------------------------------- */
+
+template <class DeviceType>
+template <int DIM, int NEWTON>
+void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
+{
+  auto x = atomKK->k_x.view<DeviceType>();
+  auto f = atomKK->k_f.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto sig = d_sig;
+  auto rs = d_rstress;
+  auto tpt = d_tpair;
+  auto accv = k_acc.template view<DeviceType>();
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit;
+  const int kind = kernel_kind, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
+  const int nlocal = atom->nlocal;
+  using SL = StateLayout;
+
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
+        const int i = ilist(ii);
+        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
+        const int itype = type(i);
+        const double mi = use_rmass ? rmass(i) : mass(itype);
+        const double Vi = mi / st(i, SL::RHO_F);
+        double acc[sphcut::NACC];
+        for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
+        sphcut::PairIn in;
+        sphcut::PairOut out;
+        in.rho_i = st(i, SL::RHO_F);
+        in.sig_i = &sig(i, 0);
+        in.R_i = any_as ? &rs(i, 0) : nullptr;
+        const int jnum = numneigh(i);
+        for (int jj = 0; jj < jnum; jj++) {
+          const int j = neighbors(i, jj) & NEIGHMASK;
+          if (!(mask(j) & gb) || sphcut::role_from_mask(mask(j), tb, cb) == SL::TOOL) continue;
+          const int jtype = type(j);
+          const sphcut::TypePair &tp = tpt(itype * ntp + jtype);
+          for (int a = 0; a < 3; a++) in.dx[a] = x(i, a) - x(j, a);
+          in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+          if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
+          const double mj = use_rmass ? rmass(j) : mass(jtype);
+          for (int a = 0; a < 3; a++) in.dv[a] = st(j, SL::VEST + a) - st(i, SL::VEST + a);
+          sphcut::set_type_pair(tp, in);
+          in.rho_j = st(j, SL::RHO_F);
+          in.sig_j = &sig(j, 0);
+          in.R_j = any_as ? &rs(j, 0) : nullptr;
+          sphcut::pair_terms<DIM>(kind, in, out);
+          sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
+          if (NEWTON || j < nlocal)
+            sphcut::pair_accumulate<DIM>(in, out, mi * mj, mi, Vi, -1.0, AtomicAdd<DeviceType>{accv, f, j});
+        }
+        AtomicAdd<DeviceType> to_i{accv, f, i};
+        for (int k = 0; k < sphcut::NACC; k++)
+          if (acc[k] != 0.0) to_i(k, acc[k]);
+      });
+}
+
+// per particle after the half-list sums: the rates
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(int nlocal)
+{
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto accv = k_acc.template view<DeviceType>();
+  auto mt = d_mat;
+  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, corr = correction;
+  const int dim = domain->dimension;
+  using SL = StateLayout;
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
+        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
+        double drho, ds[6], du;
+        sphcut::particle_rates(mt(type(i)), dim, corr, &accv(i, 0), &st(i, SL::SF), st(i, SL::RHO_F), drho, ds, du);
+        st(i, SL::DRHO) += drho;
+        for (int k = 0; k < 6; k++) st(i, SL::DS + k) += ds[k];
+        st(i, SL::DU) += du;
+        for (int a = 0; a < 3; a++) st(i, SL::XSPH + a) = accv(i, sphcut::ACC_XS + a);
+      });
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType>
+int PairSPHJCThermalKokkos<DeviceType>::pack_reverse_comm(int n, int first, double *buf)
+{
+  k_acc.sync_host();
+  auto h = k_acc.h_view;
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) buf[m++] = h(i, k);
+  return m;
+}
+
+template <class DeviceType>
+void PairSPHJCThermalKokkos<DeviceType>::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  k_acc.sync_host();
+  auto h = k_acc.h_view;
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) h(list[ii], k) += buf[m++];
+  k_acc.modify_host();
+}
+
+template <class DeviceType> double PairSPHJCThermalKokkos<DeviceType>::memory_usage()
+{
+  return (double) nmax_kk * (6 + 6 + (neighflag == FULL ? 0 : sphcut::NACC)) * sizeof(double);
+}
+
+namespace LAMMPS_NS {
+template class PairSPHJCThermalKokkos<LMPDeviceType>;
+#ifdef LMP_KOKKOS_GPU
+template class PairSPHJCThermalKokkos<LMPHostType>;
+#endif
+}    // namespace LAMMPS_NS

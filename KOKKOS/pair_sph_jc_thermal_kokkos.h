@@ -1,0 +1,67 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - pair_style sph/jc-thermal/kk: the SPH solid's pair passes on
+   the Kokkos device.  The per-pair and per-particle arithmetic is that of
+   the CPU style (src/sphcut_pair.h); this class gathers and scatters.
+     FULL list (GPU default, newton off): one kernel, each thread sums the
+       neighbours of its particle in registers and writes its force and
+       rates: no atomics, no reverse communication of the sums;
+     HALF / HALFTHREAD list (CPU threads, newton on or off): atomic sums
+       into a per-atom table, reverse communication of the sums (host),
+       then a kernel for the rates.
+------------------------------------------------------------------------- */
+
+#ifdef PAIR_CLASS
+// clang-format off
+PairStyle(sph/jc-thermal/kk,PairSPHJCThermalKokkos<LMPDeviceType>);
+PairStyle(sph/jc-thermal/kk/device,PairSPHJCThermalKokkos<LMPDeviceType>);
+PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
+// clang-format on
+#else
+
+#ifndef LMP_PAIR_SPH_JC_THERMAL_KOKKOS_H
+#define LMP_PAIR_SPH_JC_THERMAL_KOKKOS_H
+
+#include "kokkos_type.h"
+#include "pair_sph_jc_thermal.h"
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermalKokkosBase;
+
+template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCThermal {
+ public:
+  typedef DeviceType device_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typedef Kokkos::View<sphcut::Material *, typename DeviceType::memory_space> t_mat;
+  typedef Kokkos::View<sphcut::TypePair *, typename DeviceType::memory_space> t_tpair;
+
+  PairSPHJCThermalKokkos(class LAMMPS *);
+  ~PairSPHJCThermalKokkos() override;
+  void compute(int, int) override;
+  void init_style() override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+  double memory_usage() override;
+
+  // the passes (public: they launch device lambdas)
+  void stress_pass(int nall, int any_as);
+  template <int DIM> void full_pass(int inum, int any_as);
+  template <int DIM, int NEWTON> void half_pass(int inum, int any_as);
+  void rates_pass(int nlocal);
+
+ protected:
+  int neighflag;
+  int nmax_kk;
+  FixSPHJCThermalKokkosBase *fixkk;
+  int tables_ready;
+  t_mat d_mat;
+  t_tpair d_tpair;                              // (ntypes+1)^2, row major
+  typename AT::t_double_2d d_sig, d_rstress;    // per particle, local + ghost
+  DAT::tdual_double_2d k_acc;                   // neighbour sums (half lists only)
+  void upload_tables();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

@@ -1,0 +1,57 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - helpers shared by the Kokkos (/kk) styles: device copies of
+   small host tables, a timer that waits for the device, and the check
+   that a /kk style runs with the KOKKOS package enabled.
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_KOKKOS_H
+#define SPHCUT_KOKKOS_H
+
+#include "kokkos_type.h"
+#include "lammps.h"
+#include "error.h"
+
+#include <mpi.h>
+#include <string>
+
+namespace sphcut {
+
+// device copy of a host array of plain structs (materials, type-pair constants)
+template <class T, class DeviceType>
+Kokkos::View<T *, typename DeviceType::memory_space> to_device(const T *host, int n, const char *name)
+{
+  Kokkos::View<T *, typename DeviceType::memory_space> d(std::string(name), (size_t) n);
+  auto h = Kokkos::create_mirror_view(d);
+  for (int i = 0; i < n; i++) h(i) = host[i];
+  Kokkos::deep_copy(d, h);
+  return d;
+}
+
+// wall time of a hook including the device work it launched (kernels are asynchronous)
+class FencedTimer {
+ public:
+  explicit FencedTimer(double &acc) : acc_(acc), t0_(MPI_Wtime()) {}
+  ~FencedTimer()
+  {
+    Kokkos::fence();
+    acc_ += MPI_Wtime() - t0_;
+  }
+  FencedTimer(const FencedTimer &) = delete;
+  FencedTimer &operator=(const FencedTimer &) = delete;
+
+ private:
+  double &acc_;
+  double t0_;
+};
+
+// a /kk style needs `-k on` (LAMMPS 29Sep2021 does not check this for plugin styles)
+inline void require_kokkos(LAMMPS_NS::LAMMPS *lmp, const std::string &who)
+{
+  if (!lmp->kokkos)
+    lmp->error->all(FLERR, "{} needs the KOKKOS package enabled: run with -k on ... -sf kk "
+                    "(or use the style without /kk)", who);
+}
+
+}    // namespace sphcut
+
+#endif
