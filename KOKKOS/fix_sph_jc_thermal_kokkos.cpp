@@ -93,9 +93,8 @@ template <class DeviceType> struct SecondHalf {
 
 template <class DeviceType>
 FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixSPHJCThermalKokkosBase(lmp, narg, arg), dt_next(1.0e300)
+    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg), dt_next(1.0e300)
 {
-  sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk");
   kokkosable = 1;
   forward_comm_device = 1;
   atomKK = (AtomKokkos *) atom;
@@ -115,6 +114,15 @@ template <class DeviceType> FixSPHJCThermalKokkos<DeviceType>::~FixSPHJCThermalK
 {
   memoryKK->destroy_kokkos(k_state, state);
   state = nullptr;    // the base destructor must not free it
+}
+
+/* LAMMPS 29Sep2021 matches the state in a restart file to a fix by ID and style name: the /kk fix
+   goes by the name of the CPU style (as LAMMPS itself matches from 2022 on, suffix stripped), so a
+   restart written by either continues under the other.  kokkosable tells the two apart.        */
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_constructor()
+{
+  delete[] style;
+  style = utils::strdup("sph/jc-thermal");
 }
 
 template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::setmask()

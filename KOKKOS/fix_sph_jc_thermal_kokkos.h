@@ -40,6 +40,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
 
   FixSPHJCThermalKokkos(class LAMMPS *, int, char **);
   ~FixSPHJCThermalKokkos() override;
+  void post_constructor() override;
   int setmask() override;
   void init() override;
   void setup_pre_force(int) override;

@@ -51,9 +51,9 @@ template <class DeviceType> struct AtomicAdd {
 
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
-    PairSPHJCThermal(lmp), neighflag(FULL), nmax_kk(0), fixkk(nullptr), tables_ready(0)
+    PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
+    fixkk(nullptr), tables_ready(0)
 {
-  sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk");
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
   execution_space = ExecutionSpaceFromDevice<DeviceType>::space;

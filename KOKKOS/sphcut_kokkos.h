@@ -44,12 +44,15 @@ class FencedTimer {
   double t0_;
 };
 
-// a /kk style needs `-k on` (LAMMPS 29Sep2021 does not check this for plugin styles)
-inline void require_kokkos(LAMMPS_NS::LAMMPS *lmp, const std::string &who)
+// a /kk style needs `-k on` (LAMMPS 29Sep2021 does not check this for plugin styles); called in
+// the constructor's initialiser list, before the base class registers anything that an error
+// would have to undo
+inline LAMMPS_NS::LAMMPS *require_kokkos(LAMMPS_NS::LAMMPS *lmp, const std::string &who)
 {
   if (!lmp->kokkos)
     lmp->error->all(FLERR, "{} needs the KOKKOS package enabled: run with -k on ... -sf kk "
                     "(or use the style without /kk)", who);
+  return lmp;
 }
 
 }    // namespace sphcut

@@ -4,6 +4,7 @@
 #define SPHCUT_TEST_H
 
 #include "atom.h"
+#include "force.h"
 #include "input.h"
 #include "lammps.h"
 #include "library.h"
@@ -20,10 +21,21 @@
 
 namespace sphcut_test {
 
+// command-line switches of every instance: none, or (a test program compiled with
+// SPHCUT_TEST_KOKKOS) the /kk styles on the Kokkos OpenMP backend
+inline std::vector<std::string> default_switches()
+{
+#ifdef SPHCUT_TEST_KOKKOS
+  return {"-k", "on", "t", "2", "-sf", "kk"};
+#else
+  return {};
+#endif
+}
+
 // one LAMMPS instance with the sphcut plugin loaded; output silenced unless SPHCUT_TEST_VERBOSE
 class Lammps {
  public:
-  explicit Lammps(MPI_Comm comm = MPI_COMM_WORLD, std::vector<std::string> extra = {})
+  explicit Lammps(MPI_Comm comm = MPI_COMM_WORLD, std::vector<std::string> extra = default_switches())
   {
     std::vector<std::string> args = {"sphcut_test", "-log", "none", "-nocite"};
     if (!getenv("SPHCUT_TEST_VERBOSE")) { args.push_back("-screen"); args.push_back("none"); }
