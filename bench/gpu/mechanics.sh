@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# The mechanical step on the GPU (pair sph/jc-thermal/kk + fix sph/jc-thermal/kk), run on the
+# device machine (one H100, 16 cores, no network).  Make the sources here first:
+#   mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
+# then through the device tool (carry .carry):  bash bench/gpu/mechanics.sh MODE [MODE ...]
+#   check   CPU (1 rank) vs GPU state after 100 steps of a 3D plastic collision (<= 1e-8 relative);
+#           a GPU run split by a restart vs the unsplit one
+#   bench   block collision at 0.1, 1, 4 and 16 M particles: particle-steps/s on the GPU (FP64),
+#           and on the 16 CPU cores with the CPU styles and MPI (0.1, 1, 4 M)
+#   taylor  Taylor bar (examples/taylor-bar) on the GPU at dx 0.4, 0.2, 0.1 mm
+#   arch    the plugin also built with native sm_90 code: the 1 M and 4 M block runs again
+# Results (logs, summary.txt) go to $OUT (or ./gpu-out).  Figures: bench/gpu/RESULTS.md.
+set -uo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+OUT="${OUT:-$PWD/gpu-out}"
+mkdir -p "$OUT"
+NJ=$(nproc)
+export SPHCUT_CACHE=/tmp/sphcut-cache
+export CUDA_CACHE_MAXSIZE=4294967296      # room for the JIT-compiled sm_90 code
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+export OMP_PROC_BIND=false OMP_NUM_THREADS=1
+SUM="$OUT/summary.txt"
+say() { echo "$*" | tee -a "$SUM"; }
+GPU="${SPHCUT_GPU_ARGS:--k on g 1 -sf kk}"
+
+BIN="${SPHCUT_LMP:-$ROOT/build-cuda/lmp_sphcut}"    # (SPHCUT_LMP, SPHCUT_GPU_ARGS: to try the script elsewhere)
+lmp() { "$BIN" "$@"; }
+
+build() {
+  [ -f "$BIN" ] && return 0
+  { nvidia-smi -L; nvcc --version | tail -2; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1
+  local t0; t0=$(date +%s)
+  mkdir -p /tmp/sphcut-src && tar xzf "$ROOT/.carry/sphcut-sources.tar.gz" -C /tmp/sphcut-src
+  bash "$ROOT/tools/build-deps.sh" --cuda --no-apt --sources /tmp/sphcut-src --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
+    || { tail -30 "$OUT/build-deps.log"; exit 1; }
+  PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
+  cmake -S "$ROOT" -B "$ROOT/build-cuda" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
+    > "$OUT/plugin-build.log" 2>&1 && cmake --build "$ROOT/build-cuda" -j "$NJ" >> "$OUT/plugin-build.log" 2>&1 \
+    || { tail -40 "$OUT/plugin-build.log"; exit 1; }
+  say "build: $(( $(date +%s) - t0 )) s (deps + plugin, $NJ jobs)"
+}
+
+
+check() {
+  local d=/tmp/check; mkdir -p $d; cd $d
+  local B="$ROOT/bench/gpu"
+  lmp -in "$B/in.collision" -var nx 24 -var out cpu.dump -log log.cpu > /dev/null 2>&1 || { tail log.cpu; return 1; }
+  lmp $GPU -in "$B/in.collision" -var nx 24 -var out gpu.dump -log log.gpu > screen.gpu 2>&1 || { tail -20 screen.gpu; return 1; }
+  lmp $GPU -in "$B/in.collision" -var nx 24 -var steps 50 -var write r50 -var out half.dump -log log.half > /dev/null 2>&1
+  lmp $GPU -in "$B/in.collision" -var restart r50 -var steps 50 -var out split.dump -log log.split > /dev/null 2>&1
+  say "check CPU vs GPU (3D collision, 100 steps): $(python3 "$B/compare.py" cpu.dump gpu.dump 1e-8 | tr '\n' ' ')"
+  say "check GPU split by restart vs unsplit: $(python3 "$B/compare.py" gpu.dump split.dump 1e-10 | tr '\n' ' ')"
+  grep -A3 "^ *Step" log.cpu log.gpu | tail -8 >> "$SUM"
+  cp log.cpu log.gpu log.split "$OUT/" 2>/dev/null
+  cd "$ROOT"
+}
+
+# one block run: label, lmp arguments; prints particle-steps/s from the timed run's Loop time
+block() {
+  local label=$1; shift
+  local log="/tmp/bench/log.$label"
+  mkdir -p /tmp/bench; cd /tmp/bench
+  if ! timeout 500 "$@" -in "$ROOT/bench/gpu/in.block" -log "$log" > "$log.screen" 2>&1; then
+    say "$label: FAILED ($(grep -m1 ERROR "$log.screen"))"; cd "$ROOT"; return 0
+  fi
+  local loop; loop=$(grep "^Loop time" "$log" | tail -1)
+  local t n a; t=$(echo "$loop" | awk '{print $4}'); n=$(echo "$loop" | awk '{print $9}'); a=$(echo "$loop" | awk '{print $12}')
+  say "$(awk -v l="$label" -v a="$a" -v n="$n" -v t="$t" 'BEGIN{printf "%-22s %9d particles %5d steps %9.3f s  %.3e particle-steps/s\n", l, a, n, t, a*n/t}')"
+  grep -A6 "sphcut timing" "$log" | tail -4 | sed "s/^/    /" >> "$SUM"
+  cd "$ROOT"
+}
+
+bench() {
+  nvidia-smi --query-gpu=name,memory.total --format=csv,noheader >> "$SUM"
+  # nx: 2 nx^3 particles
+  block gpu-0.1M "$BIN" $GPU -var nx 37 -var steps 200
+  block gpu-1M "$BIN" $GPU -var nx 80 -var steps 100
+  block gpu-4M "$BIN" $GPU -var nx 126 -var steps 50
+  block gpu-16M "$BIN" $GPU -var nx 200 -var steps 20
+  block cpu16-0.1M mpirun -np 16 "$BIN" -var nx 37 -var steps 20
+  block cpu16-1M mpirun -np 16 "$BIN" -var nx 80 -var steps 10
+  block cpu16-4M mpirun -np 16 "$BIN" -var nx 126 -var steps 5
+}
+
+taylor() {
+  mkdir -p /tmp/taylor; cd /tmp/taylor
+  for dx in ${TAYLOR_DX:-0.4e-3 0.2e-3 0.1e-3}; do
+    local t0; t0=$(date +%s)
+    timeout "${TAYLOR_TIMEOUT:-500}" "$BIN" $GPU -in "$ROOT/examples/taylor-bar/in.taylor" -var dx $dx \
+      -log log.taylor-$dx > screen-$dx 2>&1 \
+      || say "taylor dx $dx: FAILED or timed out ($(grep -m1 ERROR screen-$dx))"
+    say "taylor dx $dx: $(grep '^TAYLOR' log.taylor-$dx) atoms $(grep -m1 'Created .* atoms' log.taylor-$dx | awk '{print $2}'), wall $(( $(date +%s) - t0 )) s"
+    grep "^Loop time" log.taylor-$dx | tail -2 >> "$SUM"
+    cp log.taylor-$dx "$OUT/" 2>/dev/null
+  done
+  cd "$ROOT"
+}
+
+arch() {
+  PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
+  cmake -S "$ROOT" -B "$ROOT/build-cuda90" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
+    -DCMAKE_CXX_FLAGS="-gencode arch=compute_90,code=sm_90" > "$OUT/plugin-build90.log" 2>&1 \
+    && cmake --build "$ROOT/build-cuda90" -j "$NJ" >> "$OUT/plugin-build90.log" 2>&1 \
+    || { tail -20 "$OUT/plugin-build90.log"; return 0; }
+  local p90="env LAMMPS_PLUGIN_PATH=$ROOT/build-cuda90"
+  block sm80ptx-1M "$BIN" $GPU -var nx 80 -var steps 100
+  block sm90-1M $p90 "$BIN" $GPU -var nx 80 -var steps 100
+  block sm80ptx-4M "$BIN" $GPU -var nx 126 -var steps 50
+  block sm90-4M $p90 "$BIN" $GPU -var nx 126 -var steps 50
+}
+
+build
+export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
+for mode in "${@:-check}"; do
+  say "== $mode ($(date -u +%H:%M:%S))"
+  $mode
+done
+say "== done ($(date -u +%H:%M:%S))"
