@@ -30,6 +30,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_pair.h"
@@ -323,6 +324,7 @@ void PairSPHJCThermal::init_style()
                atom->atom_style);
 
   // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
+  sphcut::check_masses(lmp, "Pair sph/jc-thermal");
   const int n = atom->ntypes;
   const int dim = domain->dimension;
   std::vector<double> msum(n + 1, 0.0), cnt(n + 1, 0.0), gsum(n + 1), gcnt(n + 1);

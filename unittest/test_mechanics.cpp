@@ -3,6 +3,8 @@
 #include "sphcut_test.h"
 
 #include "fix_sph_jc_thermal.h"
+#include "force.h"
+#include "pair.h"
 #include "update.h"
 
 #include <cmath>
@@ -184,6 +186,35 @@ TEST(BadInput, PairAndFix)
   EXPECT_TRUE(l.error_contains("run 0", "requires fix sph/jc-thermal"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal temp -5", "temp must be >= 0, got -5"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl", "keyword cfl needs a value"));
+}
+
+// a missing mass command, or per-atom masses left at 0 (fix property/atom rmass without
+// set mass): an error naming the cause, not a misleading one (spacing) or NaN forces
+TEST(BadInput, MissingOrZeroMass)
+{
+  const std::vector<std::string> scene = {"units si", "dimension 2", "boundary f f p", "atom_style atomic",
+                                          "lattice sq 1e-3", "region box block 0 4 0 4 -0.5 0.5",
+                                          "create_box 1 box", "create_atoms 1 box"};
+  const std::string coeff = "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3";
+  {
+    Lammps l;
+    l.cmds(scene);
+    l.cmds({"pair_style sph/jc-thermal", coeff, "fix sph all sph/jc-thermal"});
+    EXPECT_TRUE(l.error_contains("run 0", "Pair sph/jc-thermal: mass of atom type 1 is not set (use the mass command)"));
+  }
+  {
+    Lammps l;
+    l.cmds(scene);
+    l.cmds({"fix pm all property/atom rmass", "pair_style sph/jc-thermal", coeff, "fix sph all sph/jc-thermal"});
+    EXPECT_TRUE(l.error_contains("run 0", "16 atom(s) have a per-atom mass (rmass) <= 0 or not finite, e.g. atom 1 "
+                                          "with mass 0"));
+    // some set, the others still 0: the count and the first of them
+    l.cmd("set atom 1*12 mass 0.0078");
+    EXPECT_TRUE(l.error_contains("run 0", "4 atom(s) have a per-atom mass (rmass) <= 0 or not finite, e.g. atom 13"));
+    l.cmd("set atom 13*16 mass 0.0078");
+    l.cmd("run 0");
+    EXPECT_NEAR(l.lmp->force->pair->cutforce, 2.0 * 1.3e-3, 1e-12);    // spacing from rmass: 1 mm
+  }
 }
 
 TEST(BadInput, UnitsWithConversionFactors)
