@@ -28,6 +28,7 @@
 #include "update.h"
 #include "variable.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_material.h"
 #include "sphcut_timer.h"
@@ -456,6 +457,7 @@ void FixSPHJCThermal::end_of_step()
 void FixSPHJCThermal::setup(int)
 {
   reset_timers();
+  sphcut::warn_close_pairs(lmp, pair);    // particles on top of each other move as one
   if (cfl > 0.0) apply_dt(stable_dt());
 }
 

@@ -7,6 +7,9 @@
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
+#include "force.h"
+#include "neigh_list.h"
+#include "pair_sph_jc_thermal.h"
 
 #include <cmath>
 
@@ -50,6 +53,42 @@ void check_masses(LAMMPS *lmp, const char *who)
   MPI_Allreduce(&m, &gm, 1, MPI_DOUBLE, MPI_SUM, lmp->world);
   lmp->error->all(FLERR, "{}: {} atom(s) have a per-atom mass (rmass) <= 0 or not finite, e.g. atom {} with mass {} "
                   "(set it with the set command or in the data file)", who, nall, gfirst, gm);
+}
+
+bigint warn_close_pairs(LAMMPS *lmp, PairSPHJCThermal *pair, double frac)
+{
+  NeighList *list = pair->list;
+  Atom *atom = lmp->atom;
+  double count = 0.0, rmin = 1.0e300;
+  if (list && list->ilist && list->numneigh && list->firstneigh) {
+    double **x = atom->x;
+    const int *type = atom->type;
+    const int nlocal = atom->nlocal;
+    // half list: a local-ghost pair is listed on both ranks without newton
+    const double wghost = lmp->force->newton_pair ? 1.0 : 0.5;
+    for (int ii = 0; ii < list->inum; ii++) {
+      const int i = list->ilist[ii];
+      const int *jl = list->firstneigh[i];
+      for (int jj = 0; jj < list->numneigh[i]; jj++) {
+        const int j = jl[jj] & NEIGHMASK;
+        const double dp = 0.5 * (pair->spacing(type[i]) + pair->spacing(type[j]));
+        if (!(dp > 0.0)) continue;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double r = sqrt(dx * dx + dy * dy + dz * dz) / dp;
+        if (r >= frac) continue;
+        count += j < nlocal ? 1.0 : wghost;
+        rmin = std::min(rmin, r);
+      }
+    }
+  }
+  double gcount = 0.0, grmin = 0.0;
+  MPI_Allreduce(&count, &gcount, 1, MPI_DOUBLE, MPI_SUM, lmp->world);
+  MPI_Allreduce(&rmin, &grmin, 1, MPI_DOUBLE, MPI_MIN, lmp->world);
+  const bigint n = (bigint) std::llround(gcount);
+  if (n > 0 && lmp->comm->me == 0)
+    lmp->error->warning(FLERR, "{} pair(s) of particles closer than {} spacing, the closest {:.3g} spacing apart: "
+                        "they move as one (duplicate atoms? check create_atoms and read_data)", n, frac, grmin);
+  return n;
 }
 
 }    // namespace sphcut

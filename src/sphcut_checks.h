@@ -12,6 +12,7 @@
 
 namespace LAMMPS_NS {
 class LAMMPS;
+class PairSPHJCThermal;
 }    // namespace LAMMPS_NS
 
 namespace sphcut {
@@ -20,6 +21,13 @@ namespace sphcut {
 // per-atom mass, else every per-atom mass (rmass) > 0 and finite.  error->all naming
 // the type or the first offending atom and the count; `who` starts the message.
 void check_masses(LAMMPS_NS::LAMMPS *lmp, const char *who);
+
+// pairs of particles closer than frac times their mean spacing (the pair style's
+// spacing(), from mass and rho0), counted once over all ranks, from the pair style's
+// neighbour list; a warning with the count and the closest distance when there are any.
+// Returns the count (the same on every rank).
+LAMMPS_NS::bigint warn_close_pairs(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::PairSPHJCThermal *pair,
+                                   double frac = 0.5);
 
 }    // namespace sphcut
 

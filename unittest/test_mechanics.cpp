@@ -271,6 +271,35 @@ TEST(Elastic, OscillatingPlate)
   EXPECT_LT(drift, 0.02);
 }
 
+// particles on top of each other (a duplicated create_atoms) move as one: a warning at the
+// setup with the count of pairs closer than 0.5 spacing; a regular lattice gives none
+TEST(Setup, WarnsAboutCoincidentParticles)
+{
+  auto log_of = [](Lammps &l) {
+    fflush(l.lmp->logfile);
+    std::ifstream in("close.log");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  {
+    Lammps l(MPI_COMM_WORLD, {"-log", "close.log"});
+    block2d(l, 12, 8, 1.0e-3);
+    l.cmd("run 0");
+    EXPECT_EQ(log_of(l).find("closer than"), std::string::npos) << "a regular lattice has no close pairs";
+  }
+  {
+    Lammps l(MPI_COMM_WORLD, {"-log", "close.log"});
+    block2d(l, 12, 8, 1.0e-3);
+    // one atom exactly on a lattice site, one 0.01 spacing from another, one at 0.71 spacing (not counted)
+    l.cmds({"create_atoms 1 single 0 0 0 units box", "create_atoms 1 single 1.01e-3 0 0 units box",
+            "create_atoms 1 single 2.5e-3 1.5e-3 0 units box", "run 0"});
+    const std::string log = log_of(l);
+    EXPECT_NE(log.find("WARNING: 2 pair(s) of particles closer than 0.5 spacing, the closest 0 spacing apart"),
+              std::string::npos) << log;
+  }
+}
+
 // roles: rigid tool particles move with their own velocity and exert/feel no mechanics;
 // clamped particles keep their position while their neighbours move
 TEST(Roles, ToolAndClamped)
