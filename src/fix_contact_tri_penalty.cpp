@@ -239,6 +239,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     try {
       if (geom == "stl") {
         std::vector<double> tri = sphcut::read_stl(gargs[0], tf);
+        sphcut::require_closed_mesh(gargs[0], tri);    // a tool is a solid: no open sheets
         if (nvert == 3) elem = tri;
         else {
           // 2D: the section of the solid with the plane z = 0, as segments (outward normal kept)
@@ -423,8 +424,39 @@ void FixContactTriPenalty::update_tool_velocity()
 void FixContactTriPenalty::setup(int vflag)
 {
   update_tool_velocity();
+  if (!inside_checked) warn_inside();
+  inside_checked = 1;
   post_force(vflag);
   if (write_every) write_geometry();
+}
+
+/* ----------------------------------------------------------------------
+   particles of the group that start inside the tool (first setup): a
+   warning with their count; the penalty force throws them out at high speed
+------------------------------------------------------------------------- */
+
+void FixContactTriPenalty::warn_inside()
+{
+  using F = FixSPHJCThermal;
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  std::vector<int> scratch;
+  double n = 0.0, dmin = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], domain->dimension == 2 ? 0.0 : x[i][2] - disp[2]};
+    const double d = sphcut::tool_signed_distance(bins, xt, 2.0 * pair->smoothing_length(atom->type[i]), scratch);
+    if (d < 0.0) {
+      n += 1.0;
+      dmin = std::min(dmin, d);
+    }
+  }
+  double gn = 0.0, gdmin = 0.0;
+  MPI_Allreduce(&n, &gn, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&dmin, &gdmin, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (gn > 0.0 && comm->me == 0)
+    error->warning(FLERR, "Fix contact/tri-penalty: {:.0f} particle(s) start inside the tool (the deepest {:.4g} "
+                   "below its surface); the contact throws them out at high speed", gn, -gdmin);
 }
 
 void FixContactTriPenalty::initial_integrate(int)

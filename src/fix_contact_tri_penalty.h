@@ -107,6 +107,8 @@ class FixContactTriPenalty : public Fix {
   void update_tool_velocity();
   void write_geometry();
   double contact_radius_max() const;
+  int inside_checked = 0;         // particles inside the tool looked for (first setup)
+  void warn_inside();
 };
 
 }    // namespace LAMMPS_NS

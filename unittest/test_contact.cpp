@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -441,6 +442,10 @@ TEST(StlErrors, ThroughTheFix)
     std::ofstream("flipped.stl") << "solid flipped\n facet normal 0 0 -1\n  outer loop\n   vertex 0 0 0\n"
                                     "   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid flipped\n";
     write_box("above.stl", {-0.01, -0.01, 0.001}, {0.01, 0.0, 0.002});    // misses z = 0
+    // an open sheet: the top face of the plate alone (particles behind it were thrown out)
+    const std::vector<double> plate = box_triangles(std::vector<double>{-0.02, -0.005, -0.02}.data(),
+                                                    std::vector<double>{0.02, 0.0, 0.02}.data());
+    sphcut::write_stl_binary("sheet.stl", std::vector<double>(plate.begin() + 9 * 6, plate.begin() + 9 * 8));
     std::vector<double> tri = box_triangles(std::vector<double>{-0.01, -0.01, -0.01}.data(),
                                             std::vector<double>{0.01, 0.0, 0.01}.data());
     sphcut::write_stl_binary("truncated.stl", tri);
@@ -461,10 +466,49 @@ TEST(StlErrors, ThroughTheFix)
     EXPECT_TRUE(l.error_contains(fix + "nosuch.stl", "STL file 'nosuch.stl': cannot open"));
     EXPECT_TRUE(l.error_contains(fix + "flipped.stl", "facet 0: stored normal (0 0 -1) disagrees with its vertex winding"));
     EXPECT_TRUE(l.error_contains(fix + "truncated.stl", "STL file 'truncated.stl'"));
+    EXPECT_TRUE(l.error_contains(fix + "sheet.stl", "STL file 'sheet.stl': the mesh is not closed: 4 edge(s) "
+                                                    "belong to one facet only"));
     if (dim == 2)
       EXPECT_TRUE(l.error_contains(fix + "above.stl", "no facet crosses the plane z = 0 (2D section is empty)"));
     else
       l.cmd(fix + "above.stl");    // fine in 3D
+  }
+}
+
+// particles that start inside the tool: a warning at the first setup with their count and
+// the deepest one (also deeper than the contact search radius 2h); none for particles outside
+TEST(StlErrors, WarnsAboutParticlesStartingInside)
+{
+  write_box("thick.stl", {-0.02, -0.015, -0.02}, {0.02, 0.0, 0.02});    // the tool: y in [-15, 0] mm
+  auto log_of = [](Lammps &l) {
+    fflush(l.lmp->logfile);
+    std::ifstream in("inside.log");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  for (int dim : {3, 2}) {
+    SCOPED_TRACE("dim " + std::to_string(dim));
+    {
+      Lammps l(MPI_COMM_WORLD, {"-log", "inside.log"});
+      const double x0[3] = {0.0, 0.005, 0.0};
+      one_particle(l, dim, x0);
+      l.cmds({"fix tool all contact/tri-penalty stl thick.stl", "run 0"});
+      EXPECT_EQ(log_of(l).find("inside the tool"), std::string::npos);
+    }
+    Lammps l(MPI_COMM_WORLD, {"-log", "inside.log"});
+    const double x0[3] = {0.0, 0.005, 0.0};
+    one_particle(l, dim, x0);
+    // 0.3 mm and 7 mm deep (h = 1.3 mm), and one 0.3 mm outside
+    l.cmds({"create_atoms 1 single 0.005 -0.3e-3 0 units box", "create_atoms 1 single -0.005 -7e-3 0 units box",
+            "create_atoms 1 single 0.01 0.3e-3 0 units box", "fix tool all contact/tri-penalty stl thick.stl", "run 0"});
+    const std::string log = log_of(l);
+    EXPECT_NE(log.find("WARNING: Fix contact/tri-penalty: 2 particle(s) start inside the tool (the deepest 0.007 "
+                       "below its surface)"),
+              std::string::npos)
+        << log;
+    l.cmd("run 0");    // once, at the first setup
+    EXPECT_EQ(log_of(l).find("inside the tool", log.find("inside the tool") + 20), std::string::npos);
   }
 }
 
