@@ -45,8 +45,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 using sphcut::Material;
 
-static constexpr int MAXCAND = 64;
-
 /* ---------------------------------------------------------------------- */
 
 FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
@@ -516,7 +514,6 @@ void FixContactTriPenalty::post_force(int)
   fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
-  int cand[MAXCAND];
 
   // energy over the step with the weights of velocity Verlet: the particle gains
   // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
@@ -539,9 +536,15 @@ void FixContactTriPenalty::post_force(int)
     const double h = pair->smoothing_length(it);
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
     // search 2h: particles that went deeper than the contact radius still find the surface
-    int nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand, MAXCAND);
+    // every facet within 2h: the buffer grows to the count of an overflowed query (an upper
+    // bound, so the repeated query fits); a fine mesh has hundreds there
+    if (cand.empty()) cand.resize(64);
+    int nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
+    if (nc > (int) cand.size()) {
+      cand.resize(nc);
+      nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
+    }
     if (nc == 0) continue;
-    if (nc > MAXCAND) nc = MAXCAND;
     int best = -1, bestreg = 0;
     double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
     for (int c = 0; c < nc; c++) {
@@ -624,9 +627,9 @@ void FixContactTriPenalty::post_force(int)
       double wsum = 0.0;
       const int *jl = list->firstneigh[i];    // the list holds every local atom, indexed by i
       const int jn = list->numneigh[i];
-      double wj[256];
-      int js[256], nj = 0;
-      for (int jj = 0; jj < jn && nj < 256; jj++) {
+      heat_w.clear();
+      heat_j.clear();
+      for (int jj = 0; jj < jn; jj++) {
         const int j = jl[jj] & NEIGHMASK;
         if (!(mask[j] & toolbit)) continue;
         double r2 = 0.0;
@@ -634,12 +637,12 @@ void FixContactTriPenalty::post_force(int)
         const double hij = pair->smoothing_length(it, type[j]);
         if (r2 >= 4.0 * hij * hij) continue;
         const double w = sphcut::kernel_w(pair->kernel(), dim, sqrt(r2), hij);
-        wj[nj] = w;
-        js[nj++] = j;
+        heat_w.push_back(w);
+        heat_j.push_back(j);
         wsum += w;
       }
       if (wsum > 0.0) {
-        for (int k = 0; k < nj; k++) qbuf[js[k]] += qt * wj[k] / wsum;
+        for (size_t k = 0; k < heat_j.size(); k++) qbuf[heat_j[k]] += qt * heat_w[k] / wsum;
         q_tool += qt * acc;
         continue;
       }
