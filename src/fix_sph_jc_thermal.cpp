@@ -457,7 +457,8 @@ void FixSPHJCThermal::end_of_step()
 void FixSPHJCThermal::setup(int)
 {
   reset_timers();
-  sphcut::warn_close_pairs(lmp, pair);    // particles on top of each other move as one
+  // particles on top of each other move as one: warn about the initial configuration
+  if (update->ntimestep == 0) sphcut::warn_close_pairs(lmp, pair);
   if (cfl > 0.0) apply_dt(stable_dt());
 }
 

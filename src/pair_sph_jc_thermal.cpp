@@ -323,8 +323,10 @@ void PairSPHJCThermal::init_style()
     error->all(FLERR, "Pair sph/jc-thermal requires an atomic (non-molecular) atom style, got {}",
                atom->atom_style);
 
-  // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
+  // every particle has a mass > 0 (else NaN forces, or a misleading error about the spacing)
   sphcut::check_masses(lmp, "Pair sph/jc-thermal");
+
+  // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
   const int n = atom->ntypes;
   const int dim = domain->dimension;
   std::vector<double> msum(n + 1, 0.0), cnt(n + 1, 0.0), gsum(n + 1), gcnt(n + 1);
