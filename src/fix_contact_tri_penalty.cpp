@@ -45,8 +45,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 using sphcut::Material;
 
-static constexpr int MAXCAND = 64;
-
 /* ---------------------------------------------------------------------- */
 
 FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
@@ -239,6 +237,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     try {
       if (geom == "stl") {
         std::vector<double> tri = sphcut::read_stl(gargs[0], tf);
+        sphcut::require_closed_mesh(gargs[0], tri);    // a tool is a solid: no open sheets
         if (nvert == 3) elem = tri;
         else {
           // 2D: the section of the solid with the plane z = 0, as segments (outward normal kept)
@@ -424,8 +423,39 @@ void FixContactTriPenalty::update_tool_velocity()
 void FixContactTriPenalty::setup(int vflag)
 {
   update_tool_velocity();
+  if (!inside_checked) warn_inside();
+  inside_checked = 1;
   post_force(vflag);
   if (write_every) write_geometry();
+}
+
+/* ----------------------------------------------------------------------
+   particles of the group that start inside the tool (first setup): a
+   warning with their count; the penalty force throws them out at high speed
+------------------------------------------------------------------------- */
+
+void FixContactTriPenalty::warn_inside()
+{
+  using F = FixSPHJCThermal;
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  std::vector<int> scratch;
+  double n = 0.0, dmin = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], domain->dimension == 2 ? 0.0 : x[i][2] - disp[2]};
+    const double d = sphcut::tool_signed_distance(bins, xt, 2.0 * pair->smoothing_length(atom->type[i]), scratch);
+    if (d < 0.0) {
+      n += 1.0;
+      dmin = std::min(dmin, d);
+    }
+  }
+  double gn = 0.0, gdmin = 0.0;
+  MPI_Allreduce(&n, &gn, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&dmin, &gdmin, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (gn > 0.0 && comm->me == 0)
+    error->warning(FLERR, "Fix contact/tri-penalty: {:.0f} particle(s) start inside the tool (the deepest {:.4g} "
+                   "below its surface); the contact throws them out at high speed", gn, -gdmin);
 }
 
 void FixContactTriPenalty::initial_integrate(int)
@@ -485,7 +515,6 @@ void FixContactTriPenalty::post_force(int)
   fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
-  int cand[MAXCAND];
 
   // energy over the step with the weights of velocity Verlet: the particle gains
   // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
@@ -508,9 +537,15 @@ void FixContactTriPenalty::post_force(int)
     const double h = pair->smoothing_length(it);
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
     // search 2h: particles that went deeper than the contact radius still find the surface
-    int nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand, MAXCAND);
+    // every facet within 2h: the buffer grows to the count of an overflowed query (an upper
+    // bound, so the repeated query fits); a fine mesh has hundreds there
+    if (cand.empty()) cand.resize(64);
+    int nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
+    if (nc > (int) cand.size()) {
+      cand.resize(nc);
+      nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
+    }
     if (nc == 0) continue;
-    if (nc > MAXCAND) nc = MAXCAND;
     int best = -1, bestreg = 0;
     double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
     for (int c = 0; c < nc; c++) {
@@ -593,9 +628,9 @@ void FixContactTriPenalty::post_force(int)
       double wsum = 0.0;
       const int *jl = list->firstneigh[i];    // the list holds every local atom, indexed by i
       const int jn = list->numneigh[i];
-      double wj[256];
-      int js[256], nj = 0;
-      for (int jj = 0; jj < jn && nj < 256; jj++) {
+      heat_w.clear();
+      heat_j.clear();
+      for (int jj = 0; jj < jn; jj++) {
         const int j = jl[jj] & NEIGHMASK;
         if (!(mask[j] & toolbit)) continue;
         double r2 = 0.0;
@@ -603,12 +638,12 @@ void FixContactTriPenalty::post_force(int)
         const double hij = pair->smoothing_length(it, type[j]);
         if (r2 >= 4.0 * hij * hij) continue;
         const double w = sphcut::kernel_w(pair->kernel(), dim, sqrt(r2), hij);
-        wj[nj] = w;
-        js[nj++] = j;
+        heat_w.push_back(w);
+        heat_j.push_back(j);
         wsum += w;
       }
       if (wsum > 0.0) {
-        for (int k = 0; k < nj; k++) qbuf[js[k]] += qt * wj[k] / wsum;
+        for (size_t k = 0; k < heat_j.size(); k++) qbuf[heat_j[k]] += qt * heat_w[k] / wsum;
         q_tool += qt * acc;
         continue;
       }

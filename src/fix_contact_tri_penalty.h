@@ -108,6 +108,11 @@ class FixContactTriPenalty : public Fix, public sphcut::TimedStyle {
   void update_tool_velocity();
   void write_geometry();
   double contact_radius_max() const;
+  std::vector<int> cand;          // candidate elements of one particle (grows, never truncated)
+  std::vector<double> heat_w;     // tool particles near one contact and their kernel weights
+  std::vector<int> heat_j;
+  int inside_checked = 0;         // particles inside the tool looked for (first setup)
+  void warn_inside();
 };
 
 }    // namespace LAMMPS_NS

@@ -28,6 +28,7 @@
 #include "update.h"
 #include "variable.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_solid.h"
 #include "sphcut_timer.h"
@@ -385,6 +386,8 @@ void FixSPHJCThermal::end_of_step()
 void FixSPHJCThermal::setup(int)
 {
   reset_timers();
+  // particles on top of each other move as one: warn about the initial configuration
+  if (update->ntimestep == 0) sphcut::warn_close_pairs(lmp, pair);
   if (cfl > 0.0) apply_dt(stable_dt());
 }
 

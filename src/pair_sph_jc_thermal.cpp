@@ -30,6 +30,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_pair.h"
@@ -315,6 +316,9 @@ void PairSPHJCThermal::init_style()
   if (atom->molecular != 0)
     error->all(FLERR, "Pair sph/jc-thermal requires an atomic (non-molecular) atom style, got {}",
                atom->atom_style);
+
+  // every particle has a mass > 0 (else NaN forces, or a misleading error about the spacing)
+  sphcut::check_masses(lmp, "Pair sph/jc-thermal");
 
   // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
   const int n = atom->ntypes;

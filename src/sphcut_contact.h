@@ -17,7 +17,8 @@
    Typical use for particle i and a rigid tool that only translates by
    disp (its mesh and bins stay in the tool frame):
      xt = x_i - disp
-     n = tri_bin_query(bins, xt, rcut, cand, MAXCAND)
+     n = tri_bin_query(bins, xt, rcut, cand, ncand)
+     if n > ncand: grow cand to n entries and query again (n is an upper bound)
      pick the candidate with the smallest |xt - q| (on a tie the FACE hit)
      d = contact_normal(xt, a, b, c, q, region, two_sided, nrm)
      penalty_contact(in, out)         (in.n = nrm, in.d = d, in.q = q + disp)

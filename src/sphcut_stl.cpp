@@ -307,6 +307,82 @@ std::vector<double> read_stl(const std::string &file, const StlTransform &tf)
   return read_binary(file, data, tf);
 }
 
+MeshClosure mesh_closure(const std::vector<double> &tri)
+{
+  check_elem(tri, 3, "mesh_closure");
+  MeshClosure out;
+  const size_t nv = tri.size() / 3;
+  // weld: vertex ids by exact coordinates (sort the vertex references)
+  std::vector<size_t> order(nv);
+  for (size_t k = 0; k < nv; k++) order[k] = k;
+  auto less = [&](size_t a, size_t b) {
+    return std::lexicographical_compare(&tri[3 * a], &tri[3 * a + 3], &tri[3 * b], &tri[3 * b + 3]);
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<long> id(nv);
+  long next = -1;
+  for (size_t k = 0; k < nv; k++) {
+    if (k == 0 || less(order[k - 1], order[k])) next++;
+    id[order[k]] = next;
+  }
+  // directed edges as (low id, high id, +1 if low -> high else -1), sorted
+  struct Edge {
+    long a, b;
+    int dir;
+    size_t ref;    // vertex reference of its start, for the message
+  };
+  std::vector<Edge> edges;
+  edges.reserve(nv);
+  for (size_t f = 0; f < nv / 3; f++)
+    for (int e = 0; e < 3; e++) {
+      const size_t r0 = 3 * f + e, r1 = 3 * f + (e + 1) % 3;
+      const long i = id[r0], j = id[r1];
+      if (i == j) continue;
+      edges.push_back(i < j ? Edge{i, j, 1, r0} : Edge{j, i, -1, r1});
+    }
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge &p, const Edge &q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
+  for (size_t k = 0; k < edges.size();) {
+    size_t m = k;
+    int uses = 0, balance = 0;
+    for (; m < edges.size() && edges[m].a == edges[k].a && edges[m].b == edges[k].b; m++) {
+      uses++;
+      balance += edges[m].dir;
+    }
+    if (uses == 1 || balance != 0) {
+      const bool first = out.open_edges == 0 && out.inconsistent_edges == 0;
+      if (uses == 1) out.open_edges++;
+      else out.inconsistent_edges++;
+      if (first) {
+        // the edge's two end points: the start reference and the next vertex of its facet
+        const size_t r = edges[k].ref, f = r / 3, rn = 3 * f + (r % 3 + 1) % 3;
+        for (int c = 0; c < 3; c++) {
+          out.edge[c] = tri[3 * r + c];
+          out.edge[3 + c] = tri[3 * rn + c];
+        }
+      }
+    }
+    k = m;
+  }
+  return out;
+}
+
+void require_closed_mesh(const std::string &file, const std::vector<double> &tri)
+{
+  const MeshClosure c = mesh_closure(tri);
+  if (c.closed()) return;
+  std::string what = "the mesh is not closed: ";
+  if (c.open_edges)
+    what += std::to_string(c.open_edges) + " edge(s) belong to one facet only";
+  if (c.inconsistent_edges)
+    what += std::string(c.open_edges ? ", " : "") + std::to_string(c.inconsistent_edges) +
+            " edge(s) join facets of opposite winding (a facet turned inside out)";
+  what += ", e.g. " + fmt3(c.edge) + "-" + fmt3(c.edge + 3) +
+          "; the tool must be the closed surface of a solid (behind an open sheet particles are "
+          "pushed through it)";
+  fail(file, what);
+}
+
 void write_stl_ascii(const std::string &file, const std::vector<double> &tri, const std::string &name)
 {
   check_elem(tri, 3, "write_stl_ascii");
@@ -612,6 +688,49 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
             else bins.index[fill[b]++] = (int) e;
           }
     }
+  }
+}
+
+double tool_signed_distance(const TriBins &bins, const double *x, double r0, std::vector<int> &cand)
+{
+  const TriBinView g = bins.view();
+  if (g.nelem <= 0 || !(r0 > 0.0)) return HUGE_VAL;
+  const int nd = g.nvert == 3 ? 3 : 2;
+  double diag2 = 0.0;
+  for (int k = 0; k < nd; k++) {
+    const double hi = g.lo[k] + g.n[k] * g.size;
+    if (x[k] < g.lo[k] || x[k] > hi) return HUGE_VAL;    // outside the box of the tool
+    diag2 += sq(hi - g.lo[k]);
+  }
+  if (cand.size() < 64) cand.resize(64);
+  for (double r = r0;; r *= 2.0) {
+    int nc = tri_bin_query(g, x, r, cand.data(), (int) cand.size());
+    if (nc > (int) cand.size()) {
+      cand.resize(nc);
+      nc = tri_bin_query(g, x, r, cand.data(), (int) cand.size());
+    }
+    if (nc > 0) {
+      // the closest element, a FACE hit on ties (as the contact picks it)
+      int best = -1, bestreg = 0;
+      double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
+      for (int c = 0; c < nc; c++) {
+        double q[3];
+        int reg;
+        const double d2 = tri_bin_closest(g, cand[c], x, q, reg);
+        if (d2 < bestd2 * (1.0 - 1.0e-12) || (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == FACE && bestreg != FACE)) {
+          best = cand[c];
+          bestd2 = d2;
+          bestreg = reg;
+          for (int k = 0; k < 3; k++) bestq[k] = q[k];
+        }
+      }
+      const double *e = g.elem + (size_t) best * (g.nvert == 3 ? 9 : 6);
+      const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
+      double n[3];
+      return g.nvert == 3 ? contact_normal(xx, e, e + 3, e + 6, bestq, bestreg, 0, n)
+                          : contact_normal_segment(xx, e, e + 3, bestq, bestreg, 0, n);
+    }
+    if (r * r > 4.0 * diag2) return HUGE_VAL;
   }
 }
 

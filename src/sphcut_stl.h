@@ -57,6 +57,28 @@ struct StlTransform {
 
 std::vector<double> read_stl(const std::string &file, const StlTransform &tf = StlTransform());
 
+/* ----------------------------------------------------------------------
+   closed-surface check of a triangle mesh.  Vertices are matched exactly
+   (an STL repeats the vertices of each facet with the same coordinates).
+   The surface of a solid uses every edge equally often in both directions
+   (each facet runs counter-clockwise seen from outside).  open_edges:
+   edges of one facet only (the border of an open sheet or of a hole);
+   inconsistent_edges: other edges used unequally often in the two
+   directions (a facet turned inside out).  edge: one offending edge (a, b).
+------------------------------------------------------------------------- */
+
+struct MeshClosure {
+  long open_edges = 0;
+  long inconsistent_edges = 0;
+  double edge[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  bool closed() const { return open_edges == 0 && inconsistent_edges == 0; }
+};
+
+MeshClosure mesh_closure(const std::vector<double> &tri);
+
+// throws std::runtime_error ("STL file '...': the mesh is not closed: ...") unless closed
+void require_closed_mesh(const std::string &file, const std::vector<double> &tri);
+
 // ASCII STL, coordinates with 17 significant digits (exact round trip)
 void write_stl_ascii(const std::string &file, const std::vector<double> &tri,
                      const std::string &name = "sphcut");
@@ -127,6 +149,17 @@ struct TriBins {
 
 void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, TriBins &bins,
                    long max_bins = 1L << 24);
+
+/* ----------------------------------------------------------------------
+   signed distance of x (tool frame) to the surface of a closed tool, < 0
+   inside, from its closest element with the sign rule of the contact
+   (contact_normal, closed solid).  The bins are searched within r0, then
+   2 r0, 4 r0, ... (a point deep inside still finds the surface); a point
+   outside the bins' box is outside: HUGE_VAL.  cand is scratch space,
+   grown as needed.
+------------------------------------------------------------------------- */
+
+double tool_signed_distance(const TriBins &bins, const double *x, double r0, std::vector<int> &cand);
 
 }    // namespace sphcut
 

@@ -61,15 +61,31 @@ static std::vector<std::string> plugins_in_path()
 }
 #endif
 
+static LAMMPS *lammps = nullptr;
+
 static void run(int argc, char **argv, MPI_Comm comm)
 {
-  LAMMPS *lammps = new LAMMPS(argc, argv, comm);
+  lammps = new LAMMPS(argc, argv, comm);
 #if SPHCUT_LAMMPS_VERSION < 20220504
   for (const auto &p : plugins_in_path()) lammps->input->one(("plugin load " + p).c_str());
 #endif
   lammps->input->file();
   delete lammps;
+  lammps = nullptr;
 }
+
+#if defined(SPHCUT_EXCEPTIONS)
+// error->one throws an abort exception after writing the message to the screen and log of its
+// rank, buffered: MPI_Abort kills the process without flushing, so output to a file or pipe
+// lost it.  Flush screen and log first; a rank without a screen (not rank 0, or -screen none)
+// writes the message to stderr.
+static void flush_before_abort(const char *msg)
+{
+  FILE *screen = lammps ? lammps->screen : nullptr;
+  if (!screen && msg && *msg) fprintf(stderr, "%s", msg);
+  fflush(nullptr);    // every open output stream: screen, log, stdout, stderr
+}
+#endif
 
 #if defined(SPHCUT_EXCEPTIONS)
 // communicator to abort: a public member in older LAMMPS, get_universe() in newer (4Feb2025)
@@ -89,6 +105,7 @@ int main(int argc, char **argv)
   try {
     run(argc, argv, comm);
   } catch (LAMMPSAbortException &ae) {
+    flush_before_abort(ae.what());
     KokkosLMP::finalize();
     Python::finalize();
     MPI_Abort(abort_universe(ae, 0), 1);

@@ -32,6 +32,14 @@ inline std::vector<std::string> default_switches()
 #endif
 }
 
+// the plugin the tests load: the one built with them, or $SPHCUT_TEST_PLUGIN (e.g. an older
+// build, to check that a new test fails without the fix it guards)
+inline std::string plugin_path()
+{
+  const char *env = getenv("SPHCUT_TEST_PLUGIN");
+  return env && *env ? env : SPHCUT_PLUGIN_PATH;
+}
+
 // one LAMMPS instance with the sphcut plugin loaded; output silenced unless SPHCUT_TEST_VERBOSE
 class Lammps {
  public:
@@ -43,7 +51,7 @@ class Lammps {
     std::vector<char *> argv;
     for (auto &a : args) argv.push_back(const_cast<char *>(a.c_str()));
     lmp = new LAMMPS_NS::LAMMPS((int) argv.size(), argv.data(), comm);
-    cmd(std::string("plugin load ") + SPHCUT_PLUGIN_PATH);
+    cmd(std::string("plugin load ") + plugin_path());
   }
   ~Lammps() { delete lmp; }
   void cmd(const std::string &line) { lmp->input->one(line); }

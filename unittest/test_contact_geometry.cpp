@@ -3,6 +3,7 @@
 // STL/VTK I/O, the cutting insert generator and the contact bins
 #include "sphcut_contact.h"
 #include "sphcut_stl.h"
+#include "sphcut_test.h"
 
 #include <gtest/gtest.h>
 
@@ -733,6 +734,49 @@ TEST(Stl, Errors)
   EXPECT_THROW(read_stl("one_binary.stl", bad), std::runtime_error);
 }
 
+// a tool must be the closed surface of a solid: open sheets, holes and facets turned inside
+// out are found (counts of the offending edges), the generated inserts are closed
+TEST(Stl, ClosedMeshCheck)
+{
+  const double lo[3] = {0.0, 0.0, 0.0}, hi[3] = {1.0, 2.0, 3.0};
+  const std::vector<double> box = sphcut_test::box_triangles(lo, hi);
+  EXPECT_TRUE(mesh_closure(box).closed());
+  const std::vector<double> sheet(box.begin(), box.begin() + 18);    // the two facets of one face
+  MeshClosure c = mesh_closure(sheet);
+  EXPECT_EQ(c.open_edges, 4);
+  EXPECT_EQ(c.inconsistent_edges, 0);
+  const std::vector<double> holed(box.begin() + 9, box.end());    // one facet missing
+  c = mesh_closure(holed);
+  EXPECT_EQ(c.open_edges, 3);
+  EXPECT_EQ(c.inconsistent_edges, 0);
+  std::vector<double> flipped = box;    // facet 0 turned inside out
+  for (int k = 0; k < 3; k++) std::swap(flipped[3 + k], flipped[6 + k]);
+  c = mesh_closure(flipped);
+  EXPECT_EQ(c.open_edges, 0);
+  EXPECT_EQ(c.inconsistent_edges, 3);
+  std::vector<double> two = box;    // two solids touching along an edge: still closed
+  const double lo2[3] = {1.0, 2.0, 0.0}, hi2[3] = {2.0, 3.0, 3.0};
+  const std::vector<double> box2 = sphcut_test::box_triangles(lo2, hi2);
+  two.insert(two.end(), box2.begin(), box2.end());
+  EXPECT_TRUE(mesh_closure(two).closed());
+  for (double r : {0.0, 0.02}) {
+    InsertParams ip;
+    ip.edge_radius = r;
+    ip.rake_angle = 8.0;
+    EXPECT_TRUE(mesh_closure(make_cutting_insert(ip, 3)).closed()) << "insert, edge radius " << r;
+  }
+  try {
+    require_closed_mesh("sheet.stl", sheet);
+    ADD_FAILURE() << "an open sheet passed";
+  } catch (std::runtime_error &e) {
+    EXPECT_NE(std::string(e.what()).find("STL file 'sheet.stl': the mesh is not closed: 4 edge(s) belong to one "
+                                         "facet only, e.g. ("),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_NO_THROW(require_closed_mesh("box.stl", box));
+}
+
 TEST(Stl, VtkWriter)
 {
   InsertParams ip;
@@ -962,4 +1006,35 @@ TEST(TriBin, QueryMatchesBruteForce)
   // many bins requested: the bin size grows to respect max_bins
   tri_bin_build(tri, 3, 1e-5, bins, 1000);
   EXPECT_LE((long) bins.n[0] * bins.n[1] * bins.n[2], 1000);
+}
+
+// signed distance to a closed tool: the depth inside (also deeper than the first search
+// radius), the distance outside within the tool's box, +inf beyond it; 2D outlines too
+TEST(TriBin, SignedDistanceInsideAndOutside)
+{
+  const double lo1[3] = {0.0, 0.0, 0.0}, hi1[3] = {4.0, 10.0, 10.0};
+  const double lo2[3] = {6.0, 0.0, 0.0}, hi2[3] = {10.0, 10.0, 10.0};
+  std::vector<double> tri = sphcut_test::box_triangles(lo1, hi1);
+  const std::vector<double> b2 = sphcut_test::box_triangles(lo2, hi2);
+  tri.insert(tri.end(), b2.begin(), b2.end());
+  TriBins bins;
+  tri_bin_build(tri, 3, 0.5, bins);
+  std::vector<int> cand;
+  const double p1[3] = {2.0, 5.0, 5.0}, p2[3] = {3.7, 5.0, 5.0}, p3[3] = {5.0, 5.0, 5.0}, p4[3] = {5.0, 5.0, 11.0};
+  EXPECT_NEAR(tool_signed_distance(bins, p1, 0.25, cand), -2.0, 1e-12);    // 8 doublings of the radius
+  EXPECT_NEAR(tool_signed_distance(bins, p2, 0.25, cand), -0.3, 1e-12);
+  EXPECT_NEAR(tool_signed_distance(bins, p3, 0.25, cand), 1.0, 1e-12);     // in the gap
+  EXPECT_EQ(tool_signed_distance(bins, p4, 0.25, cand), HUGE_VAL);         // beyond the box
+  // 2D: the generated insert's section (rake angle 0, sharp: rake face x = 0 from (0, 0) to
+  // (0, 1), flank end (cos 7, sin 7) deg), a point inside near the rake face, one beyond the
+  // back face (from (0, 1) to the flank end) but within the tool's box
+  InsertParams ip;
+  const std::vector<double> seg = make_cutting_insert(ip, 2);
+  TriBins b2d;
+  tri_bin_build(seg, 2, 0.1, b2d);
+  const double in2[3] = {0.1, 0.5, 0.0}, out2[3] = {0.9, 0.9, 0.0};
+  const double bx = cos(7.0 * PI / 180.0), by = sin(7.0 * PI / 180.0) - 1.0;    // back face direction
+  const double dback = fabs(out2[0] * by - (out2[1] - 1.0) * bx) / sqrt(bx * bx + by * by);
+  EXPECT_NEAR(tool_signed_distance(b2d, in2, 0.05, cand), -0.1, 1e-12);
+  EXPECT_NEAR(tool_signed_distance(b2d, out2, 0.05, cand), dback, 1e-12);
 }

@@ -1,0 +1,34 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - setup-time checks of the input that would otherwise fail
+   silently (host only): particle masses, and particles that start
+   (nearly) on top of each other.  Called by the SPH styles at the setup
+   of a run; errors and warnings name the cause.
+------------------------------------------------------------------------- */
+
+#ifndef SPHCUT_CHECKS_H
+#define SPHCUT_CHECKS_H
+
+#include "lmptype.h"
+
+namespace LAMMPS_NS {
+class LAMMPS;
+class PairSPHJCThermal;
+}    // namespace LAMMPS_NS
+
+namespace sphcut {
+
+// every particle has a mass > 0: per-type masses set (mass command) when there is no
+// per-atom mass, else every per-atom mass (rmass) > 0 and finite.  error->all naming
+// the type or the first offending atom and the count; `who` starts the message.
+void check_masses(LAMMPS_NS::LAMMPS *lmp, const char *who);
+
+// pairs of particles closer than frac times their mean spacing (the pair style's
+// spacing(), from mass and rho0), counted once over all ranks, from the pair style's
+// neighbour list; a warning with the count and the closest distance when there are any.
+// Returns the count (the same on every rank).
+LAMMPS_NS::bigint warn_close_pairs(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::PairSPHJCThermal *pair,
+                                   double frac = 0.5);
+
+}    // namespace sphcut
+
+#endif
