@@ -12,7 +12,20 @@
      end_of_step        the new dt (one MPI_Allreduce); the state to the
                         host only on output steps
    Host copies of the state otherwise happen only where LAMMPS needs it on
-   the host: exchange and sorting at reneighbouring, restart, setup.
+   the host: restart, setup, and with several ranks exchange and sorting.
+
+   Reneighbouring on one rank: a fix with an Atom grow callback makes LAMMPS
+   29Sep2021 exchange, sort and build ghosts on the host (x, v, f and the
+   whole state copied both ways, about 45 ns per atom and more than a step).
+   On one rank the /kk fix therefore holds the grow callback only between
+   runs (where delete_atoms, create_atoms, ... move the rows by index, on
+   the host).  At the setup of a run (setup_pre_exchange, before LAMMPS
+   reorders anything) it labels each row with its atom's tag and drops the
+   callback, so LAMMPS keeps the atoms on the device; after every
+   reneighbouring (post_neighbor, before any force) it moves the rows to
+   the atoms' new indices by tag in two kernels (atoms lost drop out, atoms
+   created get a new row); post_run takes the callback back.  With several
+   ranks the state migrates through the grow callback as usual.
 ------------------------------------------------------------------------- */
 
 #include "fix_sph_jc_thermal_kokkos.h"
@@ -22,6 +35,7 @@
 #include "comm.h"
 #include "compute.h"
 #include "error.h"
+#include "kokkos.h"
 #include "force.h"
 #include "memory_kokkos.h"
 #include "modify.h"
@@ -29,10 +43,13 @@
 #include "pair_sph_jc_thermal.h"
 #include "update.h"
 
+#include "neigh_list_kokkos.h"
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_solid.h"
 
+#include <algorithm>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -93,7 +110,8 @@ template <class DeviceType> struct SecondHalf {
 
 template <class DeviceType>
 FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg), dt_next(1.0e300)
+    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg), dt_next(1.0e300),
+    remap(0), nrows(0), rowtag(nullptr)
 {
   kokkosable = 1;
   forward_comm_device = 1;
@@ -106,13 +124,20 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   memory->destroy(state);
   state = nullptr;
   grow_arrays(atom->nmax);
-  for (int i = 0; i < atom->nlocal; i++) initialize_atom(i);
+  for (int i = 0; i < atom->nlocal; i++) {
+    initialize_atom(i);
+    rowtag[i] = atom->tag[i];
+  }
+  nrows = atom->nlocal;
   k_state.modify_host();
+  k_rowtag.modify_host();
+  remap = comm->nprocs == 1 && atom->tag_enable;
 }
 
 template <class DeviceType> FixSPHJCThermalKokkos<DeviceType>::~FixSPHJCThermalKokkos()
 {
   memoryKK->destroy_kokkos(k_state, state);
+  memoryKK->destroy_kokkos(k_rowtag, rowtag);
   state = nullptr;    // the base destructor must not free it
 }
 
@@ -128,7 +153,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_constru
 template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::setmask()
 {
   // end_of_step every step: the new dt, and the host copy of the state before output
-  return FixSPHJCThermal::setmask() | END_OF_STEP;
+  return FixSPHJCThermal::setmask() | END_OF_STEP | (remap ? PRE_EXCHANGE | POST_NEIGHBOR : 0);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -209,6 +234,45 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
   return finish_dt(dtloc);
 }
 
+// particles closer than half their spacing, counted on the device from the pair's list
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::check_close_pairs()
+{
+  const double frac = 0.5;
+  double count = 0.0, rmin = 1.0e300;
+  if (pair->execution_space == execution_space && pair->list) {
+    auto *kl = static_cast<NeighListKokkos<DeviceType> *>(pair->list);
+    auto neighbors = kl->d_neighbors;
+    auto numneigh = kl->d_numneigh;
+    auto ilist = kl->d_ilist;
+    auto x = atomKK->k_x.view<DeviceType>();
+    auto type = atomKK->k_type.view<DeviceType>();
+    std::vector<double> sp(atom->ntypes + 1, 0.0);
+    for (int t = 1; t <= atom->ntypes; t++) sp[t] = pair->spacing(t);
+    auto dp = sphcut::to_device<double, DeviceType>(sp.data(), atom->ntypes + 1, "sph/jc-thermal:dp");
+    const int nlocal = atom->nlocal;
+    // a full list sees each pair twice; a half list sees local-ghost pairs on both ranks without newton
+    const int full = kl->d_numneigh.extent(0) > 0 && lmp->kokkos->neighflag == FULL;
+    const double wlocal = full ? 0.5 : 1.0, wghost = full ? 0.5 : (force->newton_pair ? 1.0 : 0.5);
+    Kokkos::parallel_reduce(
+        Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+        KOKKOS_LAMBDA(const int ii, double &c, double &r) {
+          const int i = ilist(ii);
+          for (int jj = 0; jj < numneigh(i); jj++) {
+            const int j = neighbors(i, jj) & NEIGHMASK;
+            const double d = 0.5 * (dp(type(i)) + dp(type(j)));
+            if (!(d > 0.0)) continue;
+            const double dx = x(i, 0) - x(j, 0), dy = x(i, 1) - x(j, 1), dz = x(i, 2) - x(j, 2);
+            const double q = sqrt(dx * dx + dy * dy + dz * dz) / d;
+            if (q >= frac) continue;
+            c += j < nlocal ? wlocal : wghost;
+            if (q < r) r = q;
+          }
+        },
+        count, Kokkos::Min<double>(rmin));
+  }
+  sphcut::report_close_pairs(lmp, count, rmin, frac);
+}
+
 /* ---------------------------------------------------------------------- */
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_integrate(int)
@@ -251,6 +315,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(int)
 {
   sphcut::FencedTimer timer(cpu_time);
+  // rows for the ghosts the forward communication fills (remap mode grows here, not in a callback)
+  if ((int) k_state.extent(0) < atom->nmax) grow_on_device(atom->nmax);
   k_state.template sync<DeviceType>();
   auto st = k_state.template view<DeviceType>();
   Kokkos::parallel_for(
@@ -336,6 +402,19 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
 {
   k_state.sync_host();    // the state readable after the run (library interface, tests)
+  if (remap && !grow_callback) {
+    // between runs the rows follow by index again.  Atom::add_callback only registers the fix
+    // being constructed, so the callback goes back into Atom's list here as it would there.
+    const int ifix = modify->find_fix(id);
+    if (atom->nextra_grow == atom->nextra_grow_max) {
+      atom->nextra_grow_max += 1;
+      memory->grow(atom->extra_grow, atom->nextra_grow_max, "atom:extra_grow");
+    }
+    atom->extra_grow[atom->nextra_grow++] = ifix;
+    std::sort(atom->extra_grow, atom->extra_grow + atom->nextra_grow);
+    grow_arrays(atom->nmax);
+    grow_callback = 1;
+  }
   FixSPHJCThermal::post_run();
 }
 
@@ -361,10 +440,112 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::grow_arrays(
   memoryKK->grow_kokkos(k_state, state, nmax, NCOL, "sph/jc-thermal:state");
   k_state.modify_host();
   array_atom = state;
+  k_rowtag.sync_host();
+  k_rowtag.modify_host();
+  memoryKK->grow_kokkos(k_rowtag, rowtag, nmax, "sph/jc-thermal:rowtag");
+  k_rowtag.modify_host();
+}
+
+// grow without a host round trip (remap mode: the state is current on the device)
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::grow_on_device(int n)
+{
+  k_state.template sync<DeviceType>();
+  k_state.template modify<DeviceType>();
+  memoryKK->grow_kokkos(k_state, state, n, NCOL, "sph/jc-thermal:state");
+  array_atom = state;
+  k_rowtag.template sync<DeviceType>();
+  k_rowtag.template modify<DeviceType>();
+  memoryKK->grow_kokkos(k_rowtag, rowtag, n, "sph/jc-thermal:rowtag");
+}
+
+/* ----------------------------------------------------------------------
+   remap mode: move the state rows to the atoms' current indices by tag
+------------------------------------------------------------------------- */
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_exchange()
+{
+  if (!remap || !grow_callback) return;
+  // rows follow the atoms by index until now (grow callback): label them with the tags
+  const int nlocal = atom->nlocal;
+  atomKK->sync(execution_space, TAG_MASK);
+  k_rowtag.template sync<DeviceType>();
+  auto tag = atomKK->k_tag.view<DeviceType>();
+  auto rt = k_rowtag.template view<DeviceType>();
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) { rt(i) = tag(i); });
+  k_rowtag.template modify<DeviceType>();
+  nrows = nlocal;
+  atom->delete_callback(id, Atom::GROW);
+  grow_callback = 0;
+}
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_post_neighbor()
+{
+  remap_state();
+}
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_neighbor()
+{
+  sphcut::FencedTimer timer(cpu_time);
+  remap_state();
+}
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state()
+{
+  if (!remap || grow_callback) return;    // with the callback the rows follow by index
+  const int nlocal = atom->nlocal;
+  if ((int) k_state.extent(0) < atom->nmax) grow_on_device(atom->nmax);
+  atomKK->sync(execution_space, TAG_MASK);
+  k_state.template sync<DeviceType>();
+  k_rowtag.template sync<DeviceType>();
+  auto tag = atomKK->k_tag.view<DeviceType>();
+  auto rt = k_rowtag.template view<DeviceType>();
+  auto st = k_state.template view<DeviceType>();
+  const int nold = nrows;
+
+  // largest tag among the labelled rows and the atoms: size of the tag -> row table
+  tagint maxtag = 0;
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, nold > nlocal ? nold : nlocal),
+      KOKKOS_LAMBDA(const int i, tagint &m) {
+        if (i < nold && rt(i) > m) m = rt(i);
+        if (i < nlocal && tag(i) > m) m = tag(i);
+      },
+      Kokkos::Max<tagint>(maxtag));
+  if ((tagint) d_row_of_tag.extent(0) <= maxtag)
+    d_row_of_tag = typename AT::t_int_1d("sph/jc-thermal:row_of_tag", (size_t) (maxtag + 1 + maxtag / 8));
+  if ((int) d_scratch.extent(0) < nlocal || d_scratch.extent(1) != (size_t) NCOL)
+    d_scratch = typename AT::t_double_2d("sph/jc-thermal:scratch", (size_t) atom->nmax, (size_t) NCOL);
+  auto row_of = d_row_of_tag;
+  auto tmp = d_scratch;
+  const double t0 = temp0;
+
+  Kokkos::deep_copy(row_of, -1);
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nold), KOKKOS_LAMBDA(const int r) {
+        if (rt(r) > 0) row_of(rt(r)) = r;
+      });
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
+        const int r = row_of(tag(i));
+        if (r >= 0)
+          for (int k = 0; k < NCOL; k++) tmp(i, k) = st(r, k);
+        else
+          sphcut::initial_row(&tmp(i, 0), t0);    // an atom created since the last remap
+      });
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
+        for (int k = 0; k < NCOL; k++) st(i, k) = tmp(i, k);
+        rt(i) = tag(i);
+      });
+  nrows = nlocal;
+  k_state.template modify<DeviceType>();
+  k_rowtag.template modify<DeviceType>();
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::set_arrays(int i)
 {
+  if (!grow_callback) return;    // during a run (remap mode) remap_state gives new atoms a row
   k_state.sync_host();
   initialize_atom(i);
   k_state.modify_host();
@@ -400,8 +581,12 @@ template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::pack_restart(
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::unpack_restart(int nlocal, int nth)
 {
   k_state.sync_host();
+  k_rowtag.sync_host();
   FixSPHJCThermal::unpack_restart(nlocal, nth);
+  rowtag[nlocal] = atom->tag[nlocal];
+  if (nlocal >= nrows) nrows = nlocal + 1;
   k_state.modify_host();
+  k_rowtag.modify_host();
 }
 
 template <class DeviceType>

@@ -65,8 +65,22 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
 
   double stable_dt() override;
+  void check_close_pairs() override;
+
+  // one rank: the state follows its atoms by tag on the device (no host exchange, see .cpp)
+  void setup_pre_exchange() override;
+  void setup_post_neighbor() override;
+  void post_neighbor() override;
+  void remap_state();
 
  protected:
+  int remap;                   // 1: state rows follow the atoms by tag (one rank), 0: grow callback
+  int nrows;                   // rows holding the state of the atoms labelled in k_rowtag
+  DAT::tdual_tagint_1d k_rowtag;    // tag of the atom whose state each row holds
+  tagint *rowtag;
+  typename AT::t_int_1d d_row_of_tag;
+  typename AT::t_double_2d d_scratch;
+  void grow_on_device(int n);
   t_mat d_mat;                 // materials per type (device copy of the pair's)
   t_h d_h;                     // smoothing length per type
   double dt_next;              // this rank's stable dt, from final_integrate's reduction

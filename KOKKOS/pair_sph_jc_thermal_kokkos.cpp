@@ -74,6 +74,10 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk)
     error->all(FLERR, "Pair sph/jc-thermal/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
+  if (atom->rmass_flag && atomKK->k_rmass.h_view.data() != atom->rmass)
+    error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
+               "(fix property/atom rmass); use per-type masses (mass command) or atom_style sphere");
   neighflag = lmp->kokkos->neighflag;
   NeighRequest *rq = neighbor->requests[neighbor->nrequest - 1];
   rq->kokkos_host = std::is_same<DeviceType, LMPHostType>::value && !std::is_same<DeviceType, LMPDeviceType>::value;

@@ -133,7 +133,7 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
 
 FixSPHJCThermal::~FixSPHJCThermal()
 {
-  atom->delete_callback(id, Atom::GROW);
+  if (grow_callback) atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(state);
   delete[] extlist;
@@ -158,9 +158,7 @@ int FixSPHJCThermal::setmask()
 
 void FixSPHJCThermal::initialize_atom(int i)
 {
-  for (int k = 0; k < NCOL; k++) state[i][k] = 0.0;
-  state[i][RHO] = -1.0;
-  state[i][TEMP] = temp0;
+  sphcut::initial_row(state[i], temp0);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -387,7 +385,7 @@ void FixSPHJCThermal::setup(int)
 {
   reset_timers();
   // particles on top of each other move as one: warn about the initial configuration
-  if (update->ntimestep == 0) sphcut::warn_close_pairs(lmp, pair);
+  if (update->ntimestep == 0) check_close_pairs();
   if (cfl > 0.0) apply_dt(stable_dt());
 }
 
@@ -396,6 +394,11 @@ void FixSPHJCThermal::setup(int)
    what each piece of physics cost, and what the scene saved by leaving
    a piece out
 ------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::check_close_pairs()
+{
+  sphcut::warn_close_pairs(lmp, pair);
+}
 
 void FixSPHJCThermal::attach(sphcut::TimedStyle *style)
 {

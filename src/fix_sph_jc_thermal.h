@@ -82,9 +82,11 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::T
   int heat_active;            // a heat fix integrates conduction: apply the thermal limit
   double plastic_work;        // accumulated plastic work (energy units), this rank
   std::vector<sphcut::TimedStyle *> timed;    // attached styles, this run
+  int grow_callback = 1;      // the state migrates through Atom's grow callback (/kk on one rank: no)
   void initialize_atom(int);
   void setup_state();         // host part of setup_pre_force: complete the state of new atoms
   virtual double stable_dt(); // this step's stable dt (global min)
+  virtual void check_close_pairs();    // warn about particles (nearly) on top of each other
   double finish_dt(double dtloc);    // global min over the ranks, then dtmin/dtmax
   void apply_dt(double);
   double run_start;           // wall clock at the setup of the run

@@ -81,6 +81,11 @@ bigint warn_close_pairs(LAMMPS *lmp, PairSPHJCThermal *pair, double frac)
       }
     }
   }
+  return report_close_pairs(lmp, count, rmin, frac);
+}
+
+bigint report_close_pairs(LAMMPS *lmp, double count, double rmin, double frac)
+{
   double gcount = 0.0, grmin = 0.0;
   MPI_Allreduce(&count, &gcount, 1, MPI_DOUBLE, MPI_SUM, lmp->world);
   MPI_Allreduce(&rmin, &grmin, 1, MPI_DOUBLE, MPI_MIN, lmp->world);

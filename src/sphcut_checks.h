@@ -29,6 +29,10 @@ void check_masses(LAMMPS_NS::LAMMPS *lmp, const char *who);
 LAMMPS_NS::bigint warn_close_pairs(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::PairSPHJCThermal *pair,
                                    double frac = 0.5);
 
+// the reduction and warning of warn_close_pairs, for drivers that count on their own (the /kk
+// fix counts on the device): count and rmin of this rank (rmin in spacings)
+LAMMPS_NS::bigint report_close_pairs(LAMMPS_NS::LAMMPS *lmp, double count, double rmin, double frac);
+
 }    // namespace sphcut
 
 #endif

@@ -29,6 +29,15 @@ SPHCUT_INLINE int role_from_mask(int mask, int toolbit, int clampbit)
   return (mask & toolbit) ? SL::TOOL : ((mask & clampbit) ? SL::CLAMPED : SL::WORKPIECE);
 }
 
+// the row of a new particle: zero; density and temperature are taken from the material
+// (sentinel -1) at the next setup unless temp0 >= 0 gives the temperature
+SPHCUT_INLINE void initial_row(double *s, double temp0)
+{
+  for (int k = 0; k < SL::NCOL; k++) s[k] = 0.0;
+  s[SL::RHO] = -1.0;
+  s[SL::TEMP] = temp0;
+}
+
 // predictor of the material state: the force state of this step
 SPHCUT_INLINE void predict_state(const Material &mt, double dt, double *s)
 {

@@ -50,24 +50,30 @@ struct Snapshot {
 inline Snapshot take(Lammps &l, const char *fixid = "sph")
 {
   using F = LAMMPS_NS::FixSPHJCThermal;
+  auto *atom = l.lmp->atom;
   Snapshot s;
-  const int natoms = static_cast<int>(l.lmp->atom->natoms);
-  s.x.resize(3 * natoms);
-  lammps_gather_atoms(l.lmp, (char *) "x", 1, 3, s.x.data());
+  // by atom ID (IDs need not be contiguous: atoms may have been deleted)
+  LAMMPS_NS::tagint mymax = 0, maxtag = 0;
+  for (int i = 0; i < atom->nlocal; i++) mymax = std::max(mymax, atom->tag[i]);
+  MPI_Allreduce(&mymax, &maxtag, 1, MPI_LMP_TAGINT, MPI_MAX, l.lmp->world);
+  const int ncol = F::NOUT;    // state columns RHO .. DTEMP
+  std::vector<double> x((size_t) 3 * maxtag, 0.0), st((size_t) maxtag * ncol, 0.0);
+  auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix(fixid)]);
+  for (int i = 0; i < atom->nlocal; i++) {
+    const size_t t = atom->tag[i] - 1;
+    for (int a = 0; a < 3; a++) x[3 * t + a] = atom->x[i][a];
+    for (int k = 0; k < ncol; k++) st[t * ncol + k] = fix->state[i][k];
+  }
+  s.x.resize(x.size());
+  s.state.resize(st.size());
+  MPI_Allreduce(x.data(), s.x.data(), (int) x.size(), MPI_DOUBLE, MPI_SUM, l.lmp->world);
+  MPI_Allreduce(st.data(), s.state.data(), (int) st.size(), MPI_DOUBLE, MPI_SUM, l.lmp->world);
   double lo = 1e300, hi = -1e300;
-  for (int k = 0; k < natoms; k++) {
-    lo = std::min(lo, s.x[3 * k]);
-    hi = std::max(hi, s.x[3 * k]);
+  for (size_t k = 0; k < s.x.size(); k += 3) {
+    lo = std::min(lo, s.x[k]);
+    hi = std::max(hi, s.x[k]);
   }
   s.size = hi - lo;
-  // state columns RHO .. DTEMP gathered by atom ID
-  const int ncol = F::NOUT;
-  std::vector<double> mine((size_t) natoms * ncol, 0.0);
-  auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix(fixid)]);
-  for (int i = 0; i < l.lmp->atom->nlocal; i++)
-    for (int k = 0; k < ncol; k++) mine[(size_t) (l.lmp->atom->tag[i] - 1) * ncol + k] = fix->state[i][k];
-  s.state.resize(mine.size());
-  MPI_Allreduce(mine.data(), s.state.data(), (int) mine.size(), MPI_DOUBLE, MPI_SUM, l.lmp->world);
   return s;
 }
 

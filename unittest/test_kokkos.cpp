@@ -98,6 +98,23 @@ TEST(Kokkos, RestartBetweenCpuAndKokkos)
   }
 }
 
+// the state follows its atoms when LAMMPS reorders them: sorting every 10 steps during the run,
+// delete_atoms between runs (on one rank the /kk fix remaps the rows by tag on the device, on
+// several ranks the grow callback moves them)
+TEST(Kokkos, StateFollowsAtomsThroughSortAndDelete)
+{
+  Snapshot snap[2];
+  for (int k = 0; k < 2; k++) {
+    Lammps l(MPI_COMM_WORLD, k ? KK_FULL : std::vector<std::string>{});
+    auto c = collision(k ? "off" : "on");
+    c.insert(c.begin() + 6, "atom_modify sort 10 4e-4");
+    l.cmds(c);
+    l.cmds({"run 50", "region cut block -30 -8 -20 20 -1 1", "delete_atoms region cut", "run 50"});
+    snap[k] = take(l);
+  }
+  expect_same(snap[0], snap[1], "sort+del");
+}
+
 // energy: kinetic + internal energy of the elastic-plastic collision is conserved by the scheme
 // (internal energy includes the plastic work), as for the CPU styles
 TEST(Kokkos, EnergyBalanceAsOnTheCpu)

@@ -215,6 +215,11 @@ TEST(BadInput, MissingOrZeroMass)
     l.cmd("set atom 1*12 mass 0.0078");
     EXPECT_TRUE(l.error_contains("run 0", "4 atom(s) have a per-atom mass (rmass) <= 0 or not finite, e.g. atom 13"));
     l.cmd("set atom 13*16 mass 0.0078");
+#ifdef SPHCUT_TEST_KOKKOS
+    // /kk: fix property/atom keeps rmass on the host only (LAMMPS 29Sep2021): refused, by name
+    EXPECT_TRUE(l.error_contains("run 0", "the per-atom mass (rmass) has no Kokkos device copy"));
+    return;
+#endif
     l.cmd("run 0");
     EXPECT_NEAR(l.lmp->force->pair->cutforce, 2.0 * 1.3e-3, 1e-12);    // spacing from rmass: 1 mm
   }
