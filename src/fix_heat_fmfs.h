@@ -49,6 +49,9 @@ class FixHeatFMFS : public Fix {
   // entry point for heat sources (fix contact/tri-penalty: friction heat):
   // add `power` (energy/time) to local atom i during post_force of this step
   void add_heat(int i, double power);
+  // thermal time step limit on this rank for thermal Courant number F, with the
+  // sub-cycling interval (fix sph/jc-thermal stable_dt takes the minimum over ranks)
+  double dt_limit(double F) const;
   double cpu_time = 0.0;    // wall time on this rank, without the surface compute (timing table)
 
  private:

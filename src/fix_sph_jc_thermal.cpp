@@ -406,7 +406,7 @@ void FixSPHJCThermal::final_integrate()
 /* ----------------------------------------------------------------------
    stable time step (adaptive dt with keyword cfl):
      dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics)
-     dt <= thermal_cfl * rho cp h^2 / k            (with a heat fix)
+     dt <= fix heat/fmfs dt_limit: thermal_cfl * rho cp h^2 / k * 2/(N + 1)
 ------------------------------------------------------------------------- */
 
 double FixSPHJCThermal::stable_dt()
@@ -426,8 +426,10 @@ double FixSPHJCThermal::stable_dt()
       const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
       dtloc = std::min(dtloc, cfl * h / (mt.cl + vv));
     }
-    if (heat_active && mt.kappa > 0.0 && mt.cp > 0.0)
-      dtloc = std::min(dtloc, thermal_cfl * state[i][RHO] * mt.cp * h * h / mt.kappa);
+  }
+  // stiff parts owned by other fixes: conduction (with its sub-cycling)
+  for (int k = 0; k < modify->nfix; k++) {
+    if (auto *h = dynamic_cast<FixHeatFMFS *>(modify->fix[k])) dtloc = std::min(dtloc, h->dt_limit(thermal_cfl));
   }
   double dtnew;
   MPI_Allreduce(&dtloc, &dtnew, 1, MPI_DOUBLE, MPI_MIN, world);

@@ -344,6 +344,22 @@ SPHCUT_INLINE double brookshaw_pair_radial(double Ti, double Tj, double ki, doub
 }
 
 // ---------------------------------------------------------------------------
+// thermal time step limit of one particle (explicit conduction):
+//   dt <= F rho cp h^2 / k * 2/(N + 1)
+// F the thermal Courant number (fix sph/jc-thermal thermal_cfl), N the sub-cycling
+// interval of fix heat/fmfs (keyword every).  The temperature update (Heun with the
+// rate of the previous step as predictor, the conduction rate held for N steps) of a
+// mode dT/dt = -lambda T is stable for lambda dt < 2/(N + 1) (N = 1: lambda dt < 1;
+// derived for the scalar mode and checked by iterating the update): holding the
+// rate stretches the lag to N steps, so the stable dt shrinks by 2/(N + 1), not 1/N.
+// k <= 0 or cp <= 0: no limit (1e300).
+SPHCUT_INLINE double thermal_dt_limit(double rho, double cp, double kappa, double h, double F, int every)
+{
+  if (!(kappa > 0.0) || !(cp > 0.0)) return 1.0e300;
+  return F * rho * cp * h * h / kappa * 2.0 / (every + 1.0);
+}
+
+// ---------------------------------------------------------------------------
 // free-surface indicator (Marrone et al. 2010; seed 003 sec. 4.2)
 
 // lambda = minimum eigenvalue of the symmetric part of B = sum r (x) g V
