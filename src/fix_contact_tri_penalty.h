@@ -55,6 +55,9 @@ class FixContactTriPenalty : public Fix {
   // the current tool geometry in the simulation frame (for output and tests)
   std::vector<double> current_elements() const;
   int element_vertices() const { return nvert; }
+  // time step limit of the penalty spring on this rank (fix sph/jc-thermal stable_dt takes the
+  // minimum over the ranks): dtfac cfl times the stability limit of the particles in or about to be in contact
+  double dt_limit(double cfl) const { return dt_crit < 1.0e300 ? dtfac * cfl * dt_crit : 1.0e300; }
   double cpu_time = 0.0;    // wall time of the contact on this rank (timing table)
 
  private:
@@ -94,6 +97,8 @@ class FixContactTriPenalty : public Fix {
   double diss_rate;               // contact dissipation rate sum F.(v_tool - v) of this step
   double contact_diss;            // dissipated at the contact (friction, dashpot), cumulative
   double dt_last;                 // time step of the last contact evaluation
+  double dtfac = 0.15;            // fraction (times cfl) of the spring's stability limit
+  double dt_crit;                 // min stability limit of the spring, particles in or near contact (this rank)
   double **fcontact;              // per-atom contact force (of the last step)
   double **vcont;                 // per-atom velocity the contact used last step, valid flag
   double *qbuf;                   // tool heat to reverse communicate
@@ -107,6 +112,7 @@ class FixContactTriPenalty : public Fix {
   void update_tool_velocity();
   void write_geometry();
   double contact_radius_max() const;
+  double spring_dt_crit(int i) const;
 };
 
 }    // namespace LAMMPS_NS

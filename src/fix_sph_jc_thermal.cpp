@@ -407,6 +407,7 @@ void FixSPHJCThermal::final_integrate()
    stable time step (adaptive dt with keyword cfl):
      dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics)
      dt <= fix heat/fmfs dt_limit: thermal_cfl * rho cp h^2 / k * 2/(N + 1)
+     dt <= fix contact/tri-penalty dt_limit: cfl/4 of the spring's limit
 ------------------------------------------------------------------------- */
 
 double FixSPHJCThermal::stable_dt()
@@ -427,8 +428,9 @@ double FixSPHJCThermal::stable_dt()
       dtloc = std::min(dtloc, cfl * h / (mt.cl + vv));
     }
   }
-  // stiff parts owned by other fixes: conduction (with its sub-cycling)
+  // stiff parts owned by other fixes: the contact spring, conduction (with its sub-cycling)
   for (int k = 0; k < modify->nfix; k++) {
+    if (auto *c = dynamic_cast<FixContactTriPenalty *>(modify->fix[k])) dtloc = std::min(dtloc, c->dt_limit(cfl));
     if (auto *h = dynamic_cast<FixHeatFMFS *>(modify->fix[k])) dtloc = std::min(dtloc, h->dt_limit(thermal_cfl));
   }
   double dtnew;
