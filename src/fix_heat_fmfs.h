@@ -45,6 +45,8 @@ class FixHeatFMFS : public Fix {
   int unpack_exchange(int, double *) override;
   double memory_usage() override;
   void restart(char *) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
 
   // entry point for heat sources (fix contact/tri-penalty: friction heat):
   // add `power` (energy/time) to local atom i during post_force of this step
@@ -58,6 +60,9 @@ class FixHeatFMFS : public Fix {
   enum { FMFS, BROOKSHAW };
   int scheme;
   int every;                    // conduction and losses evaluated every this many steps
+  int conservative;             // 1: pairwise exchange with the mean FMFS/Brookshaw weight (default)
+  double **fwts;                // per atom (local + ghost): scheme flag (1 FMFS) and FMFS weights
+  int nmax_fwts;
   double *held;                 // per atom: their temperature rate, applied between evaluations
   double held_conv, held_rad;   // loss rates of the last evaluation
   double fmfs_lambda;           // FMFS only where lambda (own support) >= this
@@ -79,6 +84,8 @@ class FixHeatFMFS : public Fix {
   PairSPHJCThermal *pair;
   int dirichlet_of(int mask) const;
   template <int DIM> void conduction();
+  template <int DIM> void conduction_conservative();
+  template <int DIM> int fmfs_choice(int i, double *wts);
 };
 
 }    // namespace LAMMPS_NS
