@@ -407,7 +407,7 @@ void FixSPHJCThermal::final_integrate()
    stable time step (adaptive dt with keyword cfl):
      dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics)
      dt <= fix heat/fmfs dt_limit: thermal_cfl * rho cp h^2 / k * 2/(N + 1)
-     dt <= fix contact/tri-penalty dt_limit: cfl/4 of the spring's limit
+     dt <= fix contact/tri-penalty dt_limit: dtfac * cfl of the spring's stability limit
 ------------------------------------------------------------------------- */
 
 double FixSPHJCThermal::stable_dt()
