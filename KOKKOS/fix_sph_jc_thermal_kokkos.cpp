@@ -72,8 +72,8 @@ template <class DeviceType> struct SecondHalf {
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
-  int groupbit, toolbit, clampbit, use_rmass, want_dt, heat_active;
-  double dt, dtf, cfl, thermal_cfl;
+  int groupbit, toolbit, clampbit, use_rmass, want_dt;
+  double dt, dtf, cfl;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -97,8 +97,7 @@ template <class DeviceType> struct SecondHalf {
     r[0] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
     for (int d = 0; d < 3; d++) v(i, d) = vi[d];
     if (want_dt) {
-      const double d = sphcut::particle_dt(mat(t), role, h(t), vi, s[sphcut::StateLayout::RHO], cfl,
-                                           heat_active, thermal_cfl);
+      const double d = sphcut::particle_dt(mat(t), role, h(t), vi, cfl);
       if (d < r[1]) r[1] = d;
     }
   }
@@ -214,11 +213,10 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
   auto v = atomKK->k_v.view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
   auto type = atomKK->k_type.view<DeviceType>();
-  auto st = k_state.template view<DeviceType>();
   auto mat = d_mat;
   auto h = d_h;
-  const int gb = groupbit, tb = toolbit, cb = clampbit, heat = heat_active;
-  const double c = cfl, tc = thermal_cfl;
+  const int gb = groupbit, tb = toolbit, cb = clampbit;
+  const double c = cfl;
   double dtloc = 1.0e300;
   Kokkos::parallel_reduce(
       Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
@@ -226,11 +224,12 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
         if (!(mask(i) & gb)) return;
         const double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
         const int t = type(i);
-        const double d = sphcut::particle_dt(mat(t), sphcut::role_from_mask(mask(i), tb, cb), h(t), vi,
-                                             st(i, sphcut::StateLayout::RHO), c, heat, tc);
+        const double d = sphcut::particle_dt(mat(t), sphcut::role_from_mask(mask(i), tb, cb), h(t), vi, c);
         if (d < m) m = d;
       },
       Kokkos::Min<double>(dtloc));
+  // (the attached styles' limits: none run under /kk yet)
+  for (auto *a : timed) dtloc = std::min(dtloc, a->dt_limit(cfl, thermal_cfl));
   return finish_dt(dtloc);
 }
 
@@ -378,11 +377,9 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.clampbit = clampbit;
   k.use_rmass = atom->rmass_flag;
   k.want_dt = cfl > 0.0;
-  k.heat_active = heat_active;
   k.dt = dtv;
   k.dtf = dtf;
   k.cfl = cfl;
-  k.thermal_cfl = thermal_cfl;
   double sums[2] = {0.0, 1.0e300};
   Kokkos::parallel_reduce(Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), k, sums);
   plastic_work += sums[0];
@@ -394,7 +391,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step()
 {
   sphcut::FencedTimer timer(cpu_time);
-  if (cfl > 0.0) apply_dt(finish_dt(dt_next));
+  if (cfl > 0.0) {
+    double dtloc = dt_next;
+    for (auto *a : timed) dtloc = std::min(dtloc, a->dt_limit(cfl, thermal_cfl));
+    apply_dt(finish_dt(dtloc));
+  }
   // dumps and f_ID outputs read the host array on output steps
   if (update->ntimestep == output->next) k_state.sync_host();
 }

@@ -233,7 +233,7 @@ void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
         sphcut::PairIn in;
         sphcut::PairOut out;
         in.rho_i = st(i, SL::RHO_F);
-        in.sig_i = &sig(i, 0);
+        in.A_i = &sig(i, 0);
         in.R_i = any_as ? &rs(i, 0) : nullptr;
         const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
         const double vi[3] = {st(i, SL::VEST), st(i, SL::VEST + 1), st(i, SL::VEST + 2)};
@@ -250,7 +250,7 @@ void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
           for (int a = 0; a < 3; a++) in.dv[a] = st(j, SL::VEST + a) - vi[a];
           sphcut::set_type_pair(tp, in);
           in.rho_j = st(j, SL::RHO_F);
-          in.sig_j = &sig(j, 0);
+          in.A_j = &sig(j, 0);
           in.R_j = any_as ? &rs(j, 0) : nullptr;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
@@ -305,7 +305,7 @@ void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
         sphcut::PairIn in;
         sphcut::PairOut out;
         in.rho_i = st(i, SL::RHO_F);
-        in.sig_i = &sig(i, 0);
+        in.A_i = &sig(i, 0);
         in.R_i = any_as ? &rs(i, 0) : nullptr;
         const int jnum = numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
@@ -320,7 +320,7 @@ void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
           for (int a = 0; a < 3; a++) in.dv[a] = st(j, SL::VEST + a) - st(i, SL::VEST + a);
           sphcut::set_type_pair(tp, in);
           in.rho_j = st(j, SL::RHO_F);
-          in.sig_j = &sig(j, 0);
+          in.A_j = &sig(j, 0);
           in.R_j = any_as ? &rs(j, 0) : nullptr;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});

@@ -21,7 +21,7 @@ namespace LAMMPS_NS {
 class FixSPHJCThermal;
 class PairSPHJCThermal;
 
-class ComputeSurfaceLambda : public Compute, public sphcut::TimedStyle {
+class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
  public:
   enum { LAMBDA = 0, FLAG, NX, NY, NZ, NCOLS };
   ComputeSurfaceLambda(class LAMMPS *, int, char **);

@@ -52,7 +52,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     mustyle(MU_CONST), mu0(0.0), mu_ivar(-1), mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
     toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
     work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
-    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), fcontact(nullptr), vcont(nullptr), qbuf(nullptr), nmax_buf(0),
+    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), vcont(nullptr), qbuf(nullptr), nmax_buf(0),
     list(nullptr), fix(nullptr), pair(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
@@ -136,6 +136,11 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR, "Fix contact/tri-penalty: {} must be >= 0, got {}", kw, v);
       if (kw == "eta" && (v < 0.0 || v > 1.0))
         error->all(FLERR, "Fix contact/tri-penalty: eta must be in [0,1], got {}", v);
+      iarg += 2;
+    } else if (kw == "dtfac") {
+      need(1, kw);
+      dtfac = num(1);
+      if (dtfac <= 0.0 || dtfac > 0.5) error->all(FLERR, "Fix contact/tri-penalty: dtfac must be in (0,0.5], got {}", dtfac);
       iarg += 2;
     } else if (kw == "stick") {
       need(1, kw);
@@ -392,10 +397,39 @@ void FixContactTriPenalty::init()
   sphcut::tri_bin_build(elem, nvert, 2.0 * hmax, bins);
   if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
   update_tool_velocity();
+  // the spring's time step limit before the first force evaluation (fix sph/jc-thermal sets
+  // the first dt of a run in its setup, before this fix's): particles within 2h of the tool
+  // (post_force narrows it to the particles in or about to be in contact)
+  dt_crit = 1.0e300;
+  {
+    const sphcut::TriBinView view = bins.view();
+    if (cand.empty()) cand.resize(64);
+    for (int i = 0; i < atom->nlocal; i++) {
+      if (!(atom->mask[i] & groupbit) || (atom->mask[i] & toolbit) || fix->role_of(atom->mask[i]) == FixSPHJCThermal::TOOL) continue;
+      const int it = atom->type[i];
+      const double h = pair->smoothing_length(it);
+      const double *xi = atom->x[i];
+      const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
+      // any facet within 2h (the count is complete even when the buffer is too small)
+      if (sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size()) == 0) continue;
+      dt_crit = std::min(dt_crit, spring_dt_crit(i));
+    }
+  }
   if (!vreg_set) {
     const double s = sqrt(vtool[0] * vtool[0] + vtool[1] * vtool[1] + vtool[2] * vtool[2]);
     vreg = 0.01 * s;    // 1 % of the tool speed (fixed tool: 0, Coulomb above the floor of post_force)
   }
+}
+
+// stability limit of the penalty spring of local particle i (sphcut_contact.h penalty_dt_limit)
+double FixContactTriPenalty::spring_dt_crit(int i) const
+{
+  const int it = atom->type[i];
+  const double h = pair->smoothing_length(it);
+  const double m = atom->rmass ? atom->rmass[i] : atom->mass[it];
+  const double dp = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
+  const double k = sphcut::penalty_stiffness(pair->materials()[it].E, etool, dp, pfac, domain->dimension);
+  return sphcut::penalty_dt_limit(k, m, dfac, 1.0);
 }
 
 void FixContactTriPenalty::init_list(int, NeighList *ptr)
@@ -514,6 +548,7 @@ void FixContactTriPenalty::post_force(int)
   for (int k = 0; k < 3; k++) ftool[k] = 0.0;
   fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
+  dt_crit = 1.0e300;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
 
   // energy over the step with the weights of velocity Verlet: the particle gains
@@ -546,6 +581,8 @@ void FixContactTriPenalty::post_force(int)
       nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
     }
     if (nc == 0) continue;
+    const double mi = rmass ? rmass[i] : mass[it];
+    const double dpi = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
     int best = -1, bestreg = 0;
     double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
     for (int c = 0; c < nc; c++) {
@@ -563,6 +600,13 @@ void FixContactTriPenalty::post_force(int)
     const double *e = &elem[(size_t) best * (nvert == 3 ? 9 : 6)];
     in.d = nvert == 3 ? sphcut::contact_normal(xt, e, e + 3, e + 6, bestq, bestreg, 0, in.n)
                       : sphcut::contact_normal_segment(xt, e, e + 3, bestq, bestreg, 0, in.n);
+    // the spring's time step limit for particles in contact or about to be: within 10 steps at
+    // their speed relative to the tool (the next step may be ~3x longer) plus h/100
+    {
+      double vr2 = 0.0;
+      for (int k = 0; k < dim; k++) vr2 += (atom->v[i][k] - vtool[k]) * (atom->v[i][k] - vtool[k]);
+      if (in.d < 0.5 * h / sfac + 10.0 * sqrt(vr2) * dt + 0.01 * h) dt_crit = std::min(dt_crit, spring_dt_crit(i));
+    }
     if (0.5 * h / sfac - in.d <= 0.0) continue;
     // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
     // run (restart, or a second run with unchanged velocities) the one of the last step
@@ -576,12 +620,12 @@ void FixContactTriPenalty::post_force(int)
       in.vtool[k] = vtool[k];
       in.q[k] = bestq[k] + disp[k];
     }
-    in.mass = rmass ? rmass[i] : mass[it];
+    in.mass = mi;
     in.h = h;
     in.E_particle = mat[it].E;
     in.E_tool = etool;
     in.m_tool = 0.0;
-    in.dp = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
+    in.dp = dpi;
     in.dim = dim;
     in.pfac = pfac;
     in.dfac = dfac;
@@ -597,6 +641,10 @@ void FixContactTriPenalty::post_force(int)
     if (!out.active) continue;
     ncontact++;
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
+    // no XSPH drift in contact: the spring force does work with the velocity v that the
+    // kinetic energy sees, so the particle must move with v (a smoothed drift velocity
+    // moves it into or out of the spring without that work: energy from nothing)
+    for (int k = 0; k < 3; k++) st[i][F::XSPH + k] = 0.0;
     for (int k = 0; k < dim; k++) {
       f[i][k] += out.f[k];
       fcontact[i][k] = out.f[k];

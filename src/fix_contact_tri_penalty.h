@@ -27,7 +27,7 @@ class FixSPHJCThermal;
 class PairSPHJCThermal;
 class FixHeatFMFS;
 
-class FixContactTriPenalty : public Fix, public sphcut::TimedStyle {
+class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
  public:
   FixContactTriPenalty(class LAMMPS *, int, char **);
   ~FixContactTriPenalty() override;
@@ -57,6 +57,9 @@ class FixContactTriPenalty : public Fix, public sphcut::TimedStyle {
   std::vector<double> current_elements() const;
   int element_vertices() const { return nvert; }
   std::string timing_name() const override { return std::string("fix contact/tri-penalty ") + id; }
+  // time step limit of the penalty spring on this rank (fix sph/jc-thermal stable_dt takes the
+  // minimum over the ranks): dtfac cfl times the stability limit of the particles in or about to be in contact
+  double dt_limit(double cfl, double) const override { return dt_crit < 1.0e300 ? dtfac * cfl * dt_crit : 1.0e300; }
 
  private:
   // geometry, in the tool frame; the tool translates by disp
@@ -95,6 +98,8 @@ class FixContactTriPenalty : public Fix, public sphcut::TimedStyle {
   double diss_rate;               // contact dissipation rate sum F.(v_tool - v) of this step
   double contact_diss;            // dissipated at the contact (friction, dashpot), cumulative
   double dt_last;                 // time step of the last contact evaluation
+  double dtfac = 0.15;            // fraction (times cfl) of the spring's stability limit
+  double dt_crit;                 // min stability limit of the spring, particles in or near contact (this rank)
   double **fcontact;              // per-atom contact force (of the last step)
   double **vcont;                 // per-atom velocity the contact used last step, valid flag
   double *qbuf;                   // tool heat to reverse communicate
@@ -113,6 +118,7 @@ class FixContactTriPenalty : public Fix, public sphcut::TimedStyle {
   std::vector<int> heat_j;
   int inside_checked = 0;         // particles inside the tool looked for (first setup)
   void warn_inside();
+  double spring_dt_crit(int i) const;
 };
 
 }    // namespace LAMMPS_NS

@@ -36,6 +36,7 @@
 #include "sphcut_thermal.h"
 #include "sphcut_timer.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -44,6 +45,9 @@ using namespace FixConst;
 using sphcut::Material;
 
 static constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
+// largest thermal Courant number of a stable update (fix sph/jc-thermal thermal_cfl <= this;
+// measured stability limit 0.15-0.17 with hdx 1.5, cubic kernel)
+static constexpr double THERMAL_CFL_MAX = 0.15;
 
 /* ----------------------------------------------------------------------
    fix ID group heat/fmfs [scheme fmfs|brookshaw] [surface CID]
@@ -51,7 +55,7 @@ static constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
 ------------------------------------------------------------------------- */
 
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), scheme(FMFS), every(1), held(nullptr), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
+    Fix(lmp, narg, arg), scheme(FMFS), every(1), conservative(1), fwts(nullptr), nmax_fwts(0), held(nullptr), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
     emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
     n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
 {
@@ -72,6 +76,13 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
       need(1);
       every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
       if (every < 1) error->all(FLERR, "Fix heat/fmfs: every must be >= 1, got {}", every);
+      iarg += 2;
+    } else if (kw == "conservative") {
+      need(1);
+      const std::string v = arg[iarg + 1];
+      if (v == "yes") conservative = 1;
+      else if (v == "no") conservative = 0;
+      else error->all(FLERR, "Fix heat/fmfs: conservative must be yes or no, got {}", v);
       iarg += 2;
     } else if (kw == "fmfs_lambda") {
       need(1);
@@ -119,6 +130,7 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
   extvector = -1;
   extlist = new int[6]{1, 1, 1, 1, 1, 0};
   restart_global = 1;
+  comm_forward = 1 + 3 * 3 + 3;
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
@@ -130,6 +142,7 @@ FixHeatFMFS::~FixHeatFMFS()
   delete[] extlist;
   atom->delete_callback(id, Atom::GROW);
   memory->destroy(held);
+  memory->destroy(fwts);
 }
 
 int FixHeatFMFS::setmask()
@@ -184,8 +197,32 @@ int FixHeatFMFS::dirichlet_of(int mask) const
 
 /* ---------------------------------------------------------------------- */
 
+double FixHeatFMFS::dt_limit(double, double F) const
+{
+  using F_ = FixSPHJCThermal;
+  if (!fix || !pair) return 1.0e300;
+  const Material *mat = pair->materials();
+  double dt = 1.0e300;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const int it = atom->type[i];
+    dt = std::min(dt, sphcut::thermal_dt_limit(fix->state[i][F_::RHO], mat[it].cp, mat[it].kappa,
+                                               pair->smoothing_length(it), F, every));
+  }
+  return dt;
+}
+
 void FixHeatFMFS::setup(int vflag)
 {
+  // refuse a time step the (sub-cycled) temperature update cannot integrate stably; the
+  // adaptive dt of fix sph/jc-thermal (defined before this fix, so set by now) stays below
+  double lim = 1.0e300, dtlim = dt_limit(0.0, THERMAL_CFL_MAX);
+  MPI_Allreduce(&dtlim, &lim, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (update->dt > lim * (1.0 + 1.0e-12))
+    error->all(FLERR, "Fix heat/fmfs: timestep {} with every {} exceeds the stable limit {} "
+               "(0.15 rho cp h^2/k 2/(every+1)): reduce timestep or every, or use fix sph/jc-thermal cfl",
+               update->dt, every, lim);
+
   // Dirichlet particles start at their temperature
   using F = FixSPHJCThermal;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -212,8 +249,13 @@ void FixHeatFMFS::post_force(int)
   if (eval && surface && surface->invoked_peratom != update->ntimestep) surface->compute_peratom();
   sphcut::ScopedTimer timer(cpu_time);
   if (eval) {
-    if (domain->dimension == 2) conduction<2>();
-    else conduction<3>();
+    if (conservative) {
+      if (domain->dimension == 2) conduction_conservative<2>();
+      else conduction_conservative<3>();
+    } else {
+      if (domain->dimension == 2) conduction<2>();
+      else conduction<3>();
+    }
   }
   double **st = fix->state;
   for (int i = 0; i < atom->nlocal; i++)
@@ -314,6 +356,154 @@ template <int DIM> void FixHeatFMFS::conduction()
   }
   held_conv = p_conv;
   held_rad = p_rad;
+}
+
+/* ----------------------------------------------------------------------
+   conservative form (default): per particle the scheme (FMFS or Brookshaw, the
+   same choice as conduction()) and, for FMFS, its pair weights; then the pairs
+   exchange heat with the mean of the two particles' weights (sphcut_thermal.h
+   conductance_mean), so sum m cp T changes only by sources, losses and Dirichlet
+------------------------------------------------------------------------- */
+
+// scheme of local particle i: 1 FMFS (weights in wts), 0 Brookshaw
+template <int DIM> int FixHeatFMFS::fmfs_choice(int i, double *wts)
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  double **st = fix->state;
+  const Material *mat = pair->materials();
+  using F = FixSPHJCThermal;
+  const Material &mi = mat[type[i]];
+  const int surf = surface ? surface->is_surface(i) : 0;
+  if (scheme != FMFS || surf || !(mi.kappa > 0.0)) return 0;
+  sphcut::FmfsAccum<DIM> acc;
+  sphcut::fmfs_zero<DIM>(acc);
+  const int *jlist = list->firstneigh[i];
+  for (int jj = 0; jj < list->numneigh[i]; jj++) {
+    const int j = jlist[jj] & NEIGHMASK;
+    if (!(mask[j] & groupbit)) continue;
+    double dx[3], r2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+      dx[a] = x[i][a] - x[j][a];
+      r2 += dx[a] * dx[a];
+    }
+    const double h = pair->smoothing_length(type[i], type[j]);
+    if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+    if (mat[type[j]].kappa != mi.kappa) return 0;    // material interface: Brookshaw
+    double w, wfac;
+    sphcut::kernel_w_gradfac(pair->kernel(), DIM, sqrt(r2), h, w, wfac);
+    const double vj = (rmass ? rmass[j] : mass[type[j]]) / st[j][F::RHO_F];
+    const double r[3] = {-dx[0], -dx[1], -dx[2]};
+    const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+    sphcut::fmfs_add<DIM>(acc, r, g, vj, 0.0);
+  }
+  if (sphcut::surface_lambda<DIM>(acc.B) < fmfs_lambda) return 0;
+  if (!sphcut::fmfs_weights<DIM>(acc, wts)) {
+    n_fallback++;
+    return 0;
+  }
+  return 1;
+}
+
+template <int DIM> void FixHeatFMFS::conduction_conservative()
+{
+  double **x = atom->x;
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  double **st = fix->state;
+  const Material *mat = pair->materials();
+  const int kernel = pair->kernel();
+  using F = FixSPHJCThermal;
+  constexpr int NW = DIM * DIM + DIM;
+  if (atom->nmax > nmax_fwts) {
+    nmax_fwts = atom->nmax;
+    memory->destroy(fwts);
+    memory->create(fwts, nmax_fwts, 1 + 3 * 3 + 3, "heat/fmfs:fwts");
+  }
+  const int nall = atom->nlocal + atom->nghost;
+  for (int i = 0; i < nall; i++) fwts[i][0] = 0.0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit) || mat[type[i]].cp <= 0.0) continue;
+    fwts[i][0] = fmfs_choice<DIM>(i, &fwts[i][1]);
+    if (fwts[i][0] > 0.0) n_fmfs++;
+    else n_brookshaw++;
+  }
+  sphcut::forward_comm(comm, this);
+
+  double p_conv = 0.0, p_rad = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int itype = type[i];
+    const Material &mi = mat[itype];
+    if (mi.cp <= 0.0) continue;
+    const double Ti = st[i][F::TEMP_F];
+    const double rhoi = st[i][F::RHO_F];
+    const double massi = rmass ? rmass[i] : mass[itype];
+    const int fi = fwts[i][0] > 0.0;
+    double rate = 0.0;    // rho cp dT/dt
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!(mask[j] & groupbit)) continue;
+      const int jtype = type[j];
+      double dx[3], r2 = 0.0;
+      for (int a = 0; a < 3; a++) {
+        dx[a] = x[i][a] - x[j][a];
+        r2 += dx[a] * dx[a];
+      }
+      const double h = pair->smoothing_length(itype, jtype);
+      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+      double w, wfac;
+      sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
+      const double kj = mat[jtype].kappa;
+      const double sb = -2.0 * sphcut::harmonic_mean(mi.kappa, kj) * wfac;    // Brookshaw
+      const double r[3] = {-dx[0], -dx[1], -dx[2]};                           // x_j - x_i
+      const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};         // grad_i W_ij
+      const double mr[3] = {dx[0], dx[1], dx[2]}, mg[3] = {-g[0], -g[1], -g[2]};
+      const double sij = fi ? mi.kappa * sphcut::fmfs_pair_weight<DIM>(&fwts[i][1], r, g) : sb;
+      const double sji = fwts[j][0] > 0.0 ? kj * sphcut::fmfs_pair_weight<DIM>(&fwts[j][1], mr, mg) : sb;
+      const double vj = (rmass ? rmass[j] : mass[jtype]) / st[j][F::RHO_F];
+      rate += vj * sphcut::conductance_mean(sij, sji) * (st[j][F::TEMP_F] - Ti);
+    }
+    double dT = rate / (rhoi * mi.cp);
+    const int surf = surface ? surface->is_surface(i) : 0;
+    if (surf && (hconv > 0.0 || emiss > 0.0)) {
+      const double vol = massi / rhoi;
+      const double area = DIM == 2 ? sqrt(vol) : pow(vol, 2.0 / 3.0);
+      const double qc = hconv * (Ti - tconv) * area;
+      const double qr = emiss * STEFAN_BOLTZMANN_SI * (Ti * Ti * Ti * Ti - trad * trad * trad * trad) * area;
+      p_conv += qc;
+      p_rad += qr;
+      dT -= (qc + qr) / (massi * mi.cp);
+    }
+    held[i] = dT;
+  }
+  (void) NW;
+  held_conv = p_conv;
+  held_rad = p_rad;
+}
+
+int FixHeatFMFS::pack_forward_comm(int n, int *list_, double *buf, int, int *)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int k = 0; k < comm_forward; k++) buf[m++] = fwts[list_[ii]][k];
+  return m;
+}
+
+void FixHeatFMFS::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = 0; k < comm_forward; k++) fwts[i][k] = buf[m++];
 }
 
 /* ---------------------------------------------------------------------- */

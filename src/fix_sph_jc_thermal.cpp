@@ -17,6 +17,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
 #include "domain.h"
 #include "error.h"
 #include "force.h"
@@ -55,7 +56,6 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   dtmax = 0.0;
   dtmin = 0.0;
   thermal_cfl = 0.1;
-  heat_active = 0;
   plastic_work = 0.0;
   force_state_valid = 0;
 
@@ -180,9 +180,6 @@ void FixSPHJCThermal::init()
   for (int i = 0; i < modify->nfix; i++)
     if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal")) ninst++;
   if (ninst > 1) error->all(FLERR, "Fix sph/jc-thermal: only one instance is allowed, found {}", ninst);
-  heat_active = 0;
-  for (int i = 0; i < modify->nfix; i++)
-    if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) heat_active = 1;
   reset_dt();
 }
 
@@ -335,7 +332,8 @@ void FixSPHJCThermal::final_integrate()
 /* ----------------------------------------------------------------------
    stable time step (adaptive dt with keyword cfl):
      dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics)
-     dt <= thermal_cfl * rho cp h^2 / k            (with a heat fix)
+     dt <= fix heat/fmfs dt_limit: thermal_cfl * rho cp h^2 / k * 2/(N + 1)
+     dt <= fix contact/tri-penalty dt_limit: dtfac * cfl of the spring's stability limit
 ------------------------------------------------------------------------- */
 
 double FixSPHJCThermal::stable_dt()
@@ -349,9 +347,10 @@ double FixSPHJCThermal::stable_dt()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const int it = type[i];
-    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i],
-                                                state[i][RHO], cfl, heat_active, thermal_cfl));
+    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i], cfl));
   }
+  // stiff parts owned by the attached styles: the contact spring, conduction (with its sub-cycling)
+  for (auto *st : timed) dtloc = std::min(dtloc, st->dt_limit(cfl, thermal_cfl));
   return finish_dt(dtloc);
 }
 
@@ -400,13 +399,30 @@ void FixSPHJCThermal::check_close_pairs()
   sphcut::warn_close_pairs(lmp, pair);
 }
 
-void FixSPHJCThermal::attach(sphcut::TimedStyle *style)
+void FixSPHJCThermal::attach(sphcut::AttachedStyle *style)
 {
   if (std::find(timed.begin(), timed.end(), style) == timed.end()) timed.push_back(style);
 }
 
+// the attached styles that still exist (a style may be deleted between runs; a run with
+// `pre no` calls no init, so the list is kept from run to run and only pruned here)
+void FixSPHJCThermal::prune_attached()
+{
+  std::vector<sphcut::AttachedStyle *> live;
+  if (auto *p = dynamic_cast<sphcut::AttachedStyle *>(force->pair)) live.push_back(p);
+  for (int i = 0; i < modify->nfix; i++)
+    if (auto *f = dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) live.push_back(f);
+  for (int i = 0; i < modify->ncompute; i++)
+    if (auto *c = dynamic_cast<sphcut::AttachedStyle *>(modify->compute[i])) live.push_back(c);
+  std::vector<sphcut::AttachedStyle *> kept;
+  for (auto *t : timed)
+    if (std::find(live.begin(), live.end(), t) != live.end()) kept.push_back(t);
+  timed.swap(kept);
+}
+
 void FixSPHJCThermal::reset_timers()
 {
+  prune_attached();
   run_start = MPI_Wtime();
   cpu_time = 0.0;
   for (auto *t : timed) t->cpu_time = 0.0;
@@ -414,9 +430,7 @@ void FixSPHJCThermal::reset_timers()
 
 void FixSPHJCThermal::post_run()
 {
-  // the list is rebuilt by the styles' init() of the next run (styles may be deleted in between)
-  std::vector<sphcut::TimedStyle *> attached;
-  attached.swap(timed);
+  const std::vector<sphcut::AttachedStyle *> &attached = timed;
   if (update->nsteps <= 0) return;
   std::vector<std::string> names = {timing_name()};
   std::vector<double> t = {cpu_time};

@@ -26,7 +26,7 @@ namespace LAMMPS_NS {
 class PairSPHJCThermal;
 
 // the state columns (Column, Role, NCOL, NFORWARD, ...) are those of sphcut::StateLayout
-class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::TimedStyle {
+class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::AttachedStyle {
  public:
   FixSPHJCThermal(class LAMMPS *, int, char **);
   ~FixSPHJCThermal() override;
@@ -64,7 +64,7 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::T
   double dt_used() const { return dtv; }
   std::string timing_name() const override { return "fix sph/jc-thermal (integration)"; }
   // timing table: the styles that report their time (each attaches itself in its init)
-  void attach(sphcut::TimedStyle *style);
+  void attach(sphcut::AttachedStyle *style);
   // for the other sphcut styles: the pair style and this fix, or an error that names `who`
   // (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
   static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
@@ -79,9 +79,8 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::T
   double cfl;                 // > 0: adaptive time step with this Courant number
   double dtmax, dtmin;
   double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
-  int heat_active;            // a heat fix integrates conduction: apply the thermal limit
   double plastic_work;        // accumulated plastic work (energy units), this rank
-  std::vector<sphcut::TimedStyle *> timed;    // attached styles, this run
+  std::vector<sphcut::AttachedStyle *> timed;    // attached styles, this run
   int grow_callback = 1;      // the state migrates through Atom's grow callback (/kk on one rank: no)
   void initialize_atom(int);
   void setup_state();         // host part of setup_pre_force: complete the state of new atoms
@@ -91,6 +90,7 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::T
   void apply_dt(double);
   double run_start;           // wall clock at the setup of the run
   void reset_timers();
+  void prune_attached();
 };
 
 }    // namespace LAMMPS_NS

@@ -362,7 +362,7 @@ double PairSPHJCThermal::init_one(int i, int j)
   hdx[j][i] = hdx[i][j];
   if (dpij <= 0.0) dpij = hlen[i][j] / 1.2;
   wdp[i][j] = wdp[j][i] = sphcut::kernel_w(kernel_kind, domain->dimension, dpij, hlen[i][j]);
-  tpair[i][j] = tpair[j][i] = sphcut::mix_type_pair(mat[i], mat[j], hlen[i][j], wdp[i][j]);
+  tpair[i][j] = tpair[j][i] = sphcut::mix_type_pair(mat[i], mat[j], hlen[i][j], wdp[i][j], kernel_kind, domain->dimension);
   return 2.0 * hlen[i][j];
 }
 
@@ -456,7 +456,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     const double mi = rmass ? rmass[i] : mass[itype];
     const double vi = mi / si[F::RHO_F];
     in.rho_i = si[F::RHO_F];
-    in.sig_i = sig[i];
+    in.A_i = sig[i];
     in.R_i = any_as ? rstress[i] : nullptr;
     double *acci = acc[i], *fi = f[i];
     auto add_i = [acci, fi](int k, double val) { if (k < 3) fi[k] += val; else acci[k] += val; };
@@ -477,7 +477,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
       for (int a = 0; a < 3; a++) in.dv[a] = sj[F::VEST + a] - si[F::VEST + a];
       sphcut::set_type_pair(tp, in);
       in.rho_j = sj[F::RHO_F];
-      in.sig_j = sig[j];
+      in.A_j = sig[j];
       in.R_j = any_as ? rstress[j] : nullptr;
       sphcut::pair_terms<DIM>(kernel_kind, in, out);
 

@@ -20,7 +20,7 @@ namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
 
-class PairSPHJCThermal : public Pair, public sphcut::TimedStyle {
+class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
  public:
   PairSPHJCThermal(class LAMMPS *);
   ~PairSPHJCThermal() override;
@@ -60,7 +60,7 @@ class PairSPHJCThermal : public Pair, public sphcut::TimedStyle {
   FixSPHJCThermal *fix;
 
   int nmax;                       // scratch arrays, local + ghost
-  double **sig, **rstress;        // Cauchy and artificial stress of the force state
+  double **sig, **rstress;        // sigma/rho^2 and the artificial stress of the force state
   double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F goes to atom->f)
 
   void allocate();

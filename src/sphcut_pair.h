@@ -17,10 +17,11 @@ struct PairIn {
   double dx[3];               // x_i - x_j
   double r2;
   double dv[3];               // v_j - v_i (predicted velocities)
-  double h, wdp;              // smoothing length, W(particle spacing)
+  double h, inv_h, wnorm;     // smoothing length, 1/h, kernel normalisation sigma_d/h^d
+  double inv_wdp;             // 1/W(particle spacing)
   double rho_i, rho_j;
-  const double *sig_i, *sig_j;    // Cauchy stress (Voigt)
-  const double *R_i, *R_j;        // artificial stress tensors (nullptr: none)
+  const double *A_i, *A_j;    // Cauchy stress over rho^2, sigma/rho^2 (Voigt; particle_stress)
+  const double *R_i, *R_j;    // artificial stress tensors (nullptr: none)
   double as_n;                // artificial stress exponent
   double alpha, beta, cbar;   // artificial viscosity
 };
@@ -48,14 +49,12 @@ SPHCUT_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
 {
   const double r = sqrt(in.r2);
   double wfac;
-  kernel_w_gradfac(kernel, DIM, r, in.h, out.w, wfac);
+  kernel_w_gradfac_pre(kernel, r, in.inv_h, in.wnorm, out.w, wfac);
   for (int a = 0; a < 3; a++) out.g[a] = a < DIM ? wfac * in.dx[a] : 0.0;
 
   // bracket M_ij = sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I + f^n (R_i + R_j)
-  const double ri2 = 1.0 / (in.rho_i * in.rho_i);
-  const double rj2 = 1.0 / (in.rho_j * in.rho_j);
   double M[6];
-  for (int k = 0; k < 6; k++) M[k] = in.sig_i[k] * ri2 + in.sig_j[k] * rj2;
+  for (int k = 0; k < 6; k++) M[k] = in.A_i[k] + in.A_j[k];
   double vr = 0.0;    // (v_i - v_j).(x_i - x_j)
   for (int a = 0; a < DIM; a++) vr -= in.dv[a] * in.dx[a];
   const double pi_ij = artificial_viscosity(in.alpha, in.beta, vr, in.r2, in.h, in.cbar,
@@ -64,7 +63,7 @@ SPHCUT_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
   M[YY] -= pi_ij;
   M[ZZ] -= pi_ij;
   if (in.R_i) {
-    const double fn = int_pow(out.w / in.wdp, in.as_n);
+    const double fn = int_pow(out.w * in.inv_wdp, in.as_n);
     for (int k = 0; k < 6; k++) M[k] += fn * (in.R_i[k] + in.R_j[k]);
   }
   sym_apply(M, out.g, out.Mg);
@@ -81,16 +80,21 @@ SPHCUT_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
    parameters of a pair are the means of the two materials'.             */
 struct TypePair {
   double h, cutsq, wdp;       // smoothing length, (2h)^2, W(mean particle spacing)
+  double inv_h, wnorm, inv_wdp;    // 1/h, kernel normalisation sigma_d/h^d, 1/W(dp)
   double as_n;                // artificial stress exponent
   double alpha, beta, cbar;   // artificial viscosity, mean bulk sound speed
 };
 
-SPHCUT_INLINE TypePair mix_type_pair(const Material &mi, const Material &mj, double h, double wdp)
+SPHCUT_INLINE TypePair mix_type_pair(const Material &mi, const Material &mj, double h, double wdp, int kernel,
+                                     int dim)
 {
   TypePair tp;
   tp.h = h;
   tp.cutsq = 4.0 * h * h;
   tp.wdp = wdp;
+  tp.inv_h = 1.0 / h;
+  tp.wnorm = kernel_sigma(kernel, dim) / (dim == 2 ? h * h : h * h * h);
+  tp.inv_wdp = wdp > 0.0 ? 1.0 / wdp : 0.0;
   tp.as_n = 0.5 * (mi.as_n + mj.as_n);
   tp.alpha = 0.5 * (mi.av_alpha + mj.av_alpha);
   tp.beta = 0.5 * (mi.av_beta + mj.av_beta);
@@ -101,7 +105,9 @@ SPHCUT_INLINE TypePair mix_type_pair(const Material &mi, const Material &mj, dou
 SPHCUT_INLINE void set_type_pair(const TypePair &tp, PairIn &in)
 {
   in.h = tp.h;
-  in.wdp = tp.wdp;
+  in.inv_h = tp.inv_h;
+  in.wnorm = tp.wnorm;
+  in.inv_wdp = tp.inv_wdp;
   in.as_n = tp.as_n;
   in.alpha = tp.alpha;
   in.beta = tp.beta;
@@ -170,11 +176,15 @@ SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, c
   du = acc[ACC_DU];
 }
 
-// Cauchy stress and artificial stress of a particle's force state (local and ghost)
+// per particle of the force state (local and ghost), what its pairs need: A = sigma/rho^2
+// (the particle's share of the momentum bracket) and the artificial stress R
 SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, double rho_f, double temp_f,
-                                   const double *sf, double *sig, double *R)
+                                   const double *sf, double *A, double *R)
 {
+  double sig[6];
   cauchy_stress(sf, eos_pressure(mt, rho_f, temp_f), sig);
+  const double ir2 = 1.0 / (rho_f * rho_f);
+  for (int k = 0; k < 6; k++) A[k] = sig[k] * ir2;
   if (!with_as) return;
   if (mt.as_eps > 0.0) artificial_stress(mt.as_eps, sig, rho_f, dim, R);
   else for (int k = 0; k < 6; k++) R[k] = 0.0;

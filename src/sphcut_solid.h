@@ -115,22 +115,14 @@ SPHCUT_INLINE double integrate_second_half(const Material &mt, int role, double 
   return work;
 }
 
-/* stable time step of one particle (adaptive dt, keyword cfl):
-     dt = cfl h / (c_l + |v|)                      (mechanics, not for tool particles)
-     dt <= thermal_cfl rho cp h^2 / k              (with a heat fix)            */
-SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double rho,
-                                 double cfl, int heat_active, double thermal_cfl)
+/* stable time step of one particle (adaptive dt, keyword cfl), mechanics:
+     dt = cfl h / (c_l + |v|)        (not for tool particles)
+   the conduction and contact limits come from fix heat/fmfs and fix contact/tri-penalty */
+SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double cfl)
 {
-  double dt = 1.0e300;
-  if (role != SL::TOOL) {
-    const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    dt = cfl * h / (mt.cl + vv);
-  }
-  if (heat_active && mt.kappa > 0.0 && mt.cp > 0.0) {
-    const double dth = thermal_cfl * rho * mt.cp * h * h / mt.kappa;
-    if (dth < dt) dt = dth;
-  }
-  return dt;
+  if (role == SL::TOOL) return 1.0e300;
+  const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return cfl * h / (mt.cl + vv);
 }
 
 }    // namespace sphcut

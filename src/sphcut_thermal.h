@@ -299,6 +299,97 @@ SPHCUT_INLINE bool fmfs_laplacian(const FmfsAccum<DIM> &acc, double &lap, double
   return true;
 }
 
+// FMFS as pair weights.  lap T_i = G:S is linear in the differences T_j - T_i:
+//   lap T_i = sum_j V_j w_ij (T_j - T_i),
+//   w_ij = 2/|r| e.Gf.g + z.g,   z_c = -2 sum_e A_ce Y_e,   Y_e = sum_cd Gf_cd T3_(ec)d
+// (Gf the full symmetric G; r, e, g of neighbour j as in fmfs_add).  fmfs_weights
+// stores Gf (DIM x DIM, row-major) and z in wts[0 .. DIM*DIM + DIM - 1]; returns false
+// where fmfs_laplacian would (singular B or G system).  The pair weights let the
+// conservative form of fix heat/fmfs exchange heat pairwise with the mean weight
+// (w_ij + w_ji)/2 (see conductance_fmfs): equal to FMFS wherever the two
+// particles' weights agree (interior of a regular arrangement: exactly).
+template <int DIM>
+SPHCUT_INLINE bool fmfs_weights(const FmfsAccum<DIM> &acc, double *wts, double tol = SPHCUT_FMFS_TOL)
+{
+  constexpr int NS = FmfsAccum<DIM>::NS;
+  for (int k = 0; k < DIM * DIM + DIM; k++) wts[k] = 0.0;
+  double A[DIM][DIM];
+  if (!dense_inverse<DIM>(acc.B, A, tol)) return false;
+  double W[NS][DIM];
+  for (int p = 0; p < NS; p++)
+    for (int e = 0; e < DIM; e++) {
+      double s = 0.0;
+      for (int f = 0; f < DIM; f++) s += acc.Q3[p][f] * A[f][e];
+      W[p][e] = s;
+    }
+  double K[NS][NS], rhs[NS];
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) {
+      const int p = sym_pair_index(a, b);
+      rhs[p] = a == b ? 1.0 : 0.0;
+      for (int d = 0; d < DIM; d++)
+        for (int c = 0; c <= d; c++) {
+          const int q = sym_pair_index(c, d);
+          double m = acc.P4[sym_triple_index(a, b, c)][d];
+          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
+          if (c != d) {
+            m += acc.P4[sym_triple_index(a, b, d)][c];
+            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
+          }
+          K[p][q] = m;
+        }
+    }
+  if (!dense_solve<NS>(K, rhs, tol)) return false;
+  double Gf[DIM][DIM];
+  for (int c = 0; c < DIM; c++)
+    for (int d = 0; d < DIM; d++) Gf[c][d] = rhs[sym_pair_index(c, d)];
+  double Y[DIM];
+  for (int e = 0; e < DIM; e++) {
+    double s = 0.0;
+    for (int c = 0; c < DIM; c++)
+      for (int d = 0; d < DIM; d++) s += Gf[c][d] * acc.T3[sym_pair_index(e, c)][d];
+    Y[e] = s;
+  }
+  for (int c = 0; c < DIM; c++) {
+    double s = 0.0;
+    for (int e = 0; e < DIM; e++) s += A[c][e] * Y[e];
+    wts[DIM * DIM + c] = -2.0 * s;
+    for (int d = 0; d < DIM; d++) wts[DIM * c + d] = Gf[c][d];
+  }
+  for (int k = 0; k < DIM * DIM + DIM; k++)
+    if (!(fabs(wts[k]) < 1.0e300)) return false;
+  return true;
+}
+
+// w_ij of neighbour j from the stored weights of particle i: r = x_j - x_i, g = grad_i W_ij
+template <int DIM>
+SPHCUT_INLINE double fmfs_pair_weight(const double *wts, const double *r, const double *g)
+{
+  double r2 = 0.0;
+  for (int a = 0; a < DIM; a++) r2 += r[a] * r[a];
+  if (!(r2 > 0.0)) return 0.0;
+  const double irn = 1.0 / sqrt(r2);
+  double egg = 0.0, zg = 0.0;
+  for (int c = 0; c < DIM; c++) {
+    double gc = 0.0;
+    for (int d = 0; d < DIM; d++) gc += wts[DIM * c + d] * g[d];
+    egg += r[c] * irn * gc;
+    zg += wts[DIM * DIM + c] * g[c];
+  }
+  return 2.0 * irn * egg + zg;
+}
+
+// conservative FMFS / Brookshaw exchange of the pair i-j (default of fix heat/fmfs):
+//   rho_i cp_i dT_i/dt = sum_j V_j c_ij (T_j - T_i),   c_ij = (s_ij + s_ji)/2 = c_ji,
+// s_ij = k_i w_ij (i on FMFS, w_ij from its weights) or 2 kbar (-wfac) (i on Brookshaw,
+// kbar the harmonic mean, seed 000 eq. 6), s_ji likewise from j's side (r -> -r, g -> -g).
+// The pair moves V_i V_j c_ij (T_j - T_i) from j to i and the same from i to j: sum m cp T
+// is conserved exactly, at the FMFS/Brookshaw seam too.
+SPHCUT_INLINE double conductance_mean(double s_ij, double s_ji)
+{
+  return 0.5 * (s_ij + s_ji);
+}
+
 // ---------------------------------------------------------------------------
 // Brookshaw Laplacian (seed 003 eq. 12) and heat flux (seed 000 eq. 6)
 
@@ -341,6 +432,22 @@ SPHCUT_INLINE double brookshaw_pair(double Ti, double Tj, double ki, double kj, 
 SPHCUT_INLINE double brookshaw_pair_radial(double Ti, double Tj, double ki, double kj, double wfac)
 {
   return 2.0 * harmonic_mean(ki, kj) * (Ti - Tj) * wfac;
+}
+
+// ---------------------------------------------------------------------------
+// thermal time step limit of one particle (explicit conduction):
+//   dt <= F rho cp h^2 / k * 2/(N + 1)
+// F the thermal Courant number (fix sph/jc-thermal thermal_cfl), N the sub-cycling
+// interval of fix heat/fmfs (keyword every).  The temperature update (Heun with the
+// rate of the previous step as predictor, the conduction rate held for N steps) of a
+// mode dT/dt = -lambda T is stable for lambda dt < 2/(N + 1) (N = 1: lambda dt < 1;
+// derived for the scalar mode and checked by iterating the update): holding the
+// rate stretches the lag to N steps, so the stable dt shrinks by 2/(N + 1), not 1/N.
+// k <= 0 or cp <= 0: no limit (1e300).
+SPHCUT_INLINE double thermal_dt_limit(double rho, double cp, double kappa, double h, double F, int every)
+{
+  if (!(kappa > 0.0) || !(cp > 0.0)) return 1.0e300;
+  return F * rho * cp * h * h / kappa * 2.0 / (every + 1.0);
 }
 
 // ---------------------------------------------------------------------------

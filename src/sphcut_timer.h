@@ -25,12 +25,16 @@ class ScopedTimer {
   double t0_;
 };
 
-// a sphcut style with a row in the timing table: it attaches itself to fix sph/jc-thermal
-// in its init (FixSPHJCThermal::attach) and adds the wall time of its work to cpu_time
-class TimedStyle {
+// a sphcut style attached to fix sph/jc-thermal: it attaches itself in its init
+// (FixSPHJCThermal::attach), adds the wall time of its work to cpu_time (a row of the timing
+// table), and may limit the adaptive time step (dt_limit: this rank's limit, the fix takes the
+// minimum over the styles and ranks)
+class AttachedStyle {
  public:
-  virtual ~TimedStyle() = default;
+  virtual ~AttachedStyle() = default;
   virtual std::string timing_name() const = 0;
+  // stable dt of this style's physics for the Courant numbers of fix sph/jc-thermal
+  virtual double dt_limit(double /*cfl*/, double /*thermal_cfl*/) const { return 1.0e300; }
   double cpu_time = 0.0;
 };
 

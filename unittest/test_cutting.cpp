@@ -50,6 +50,25 @@ TEST(Cutting, QuickTi6Al4V)
   EXPECT_GT(tmax, 350.0);           // plastic and friction heat
   EXPECT_LT(tmax, 1878.0);
   EXPECT_LT(fabs(balance), 1.5e-5);    // measured 4.4e-6
+
+  // heat budget (issue 11 item 3) over workpiece and tool particles (fix heat/fmfs acts on all):
+  // sum m cp dT = plastic heat chi W_p + friction heat (workpiece and tool shares) + heat in
+  // through the Dirichlet clamp - convection - radiation.  Conduction between workpiece and
+  // tool is internal.  Artificial-viscosity work is not heat (item 4): it is not in the budget.
+  const double dE = l.equal("f_heat[5]") - l.equal("v_eth0");
+  const double qplast = 0.9 * l.equal("f_sph[4]"), qfric = l.equal("f_heat[4]");
+  const double qconv = l.equal("f_heat[1]"), qrad = l.equal("f_heat[2]"), qdir = l.equal("f_heat[3]");
+  const double qlost = l.equal("f_cut[14]");
+  const double sources = qplast + qfric + qdir - qconv - qrad;
+  const double hb = (dE - sources) / sources;
+  std::printf("[ cutting  ] heat: sum m cp dT %.6g J/m = plastic %.6g + friction %.6g (workpiece %.4g, tool %.4g) "
+              "+ Dirichlet %.4g - convection %.4g - radiation %.4g (%+.2e), friction heat unassigned %.3g\n",
+              dE, qplast, qfric, l.equal("f_cut[6]"), l.equal("f_cut[7]"), qdir, qconv, qrad, hb, qlost);
+  // the issue asks for 1 %; measured -1.1e-6 (the friction heat is booked with the rectangle
+  // rule, the temperature uses the trapezoid); the per-particle FMFS/Brookshaw form
+  // (conservative no) misses by +1.2e-3 here
+  EXPECT_LT(fabs(hb), 3e-6);
+  EXPECT_EQ(qlost, 0.0);
 }
 
 // a long cut split with restart files continues as one run: 9000 steps in one go against

@@ -149,7 +149,7 @@ TEST(Laplacian, Quadratic2DFmfsExact)
   Lammps l;
   laplacian_square(l);
   // fmfs_lambda 0 forces FMFS at the boundary particles too (seed 003 sec. 5.1)
-  l.cmds({"fix heat all heat/fmfs scheme fmfs fmfs_lambda 0", "run 0"});
+  l.cmds({"fix heat all heat/fmfs scheme fmfs fmfs_lambda 0 conservative no", "run 0"});
   auto *fix = state_fix(l);
   ASSERT_EQ(l.lmp->atom->nlocal, 441);
   double worst = 0.0;
@@ -204,7 +204,7 @@ TEST(Laplacian, SurfaceLayerUsesBrookshaw)
   auto *fix = state_fix(l);
   std::map<long, double> brook;
   for (int i = 0; i < l.lmp->atom->nlocal; i++) brook[l.lmp->atom->tag[i]] = fix->state[i][F::DTEMP];
-  l.cmds({"unfix heat", "fix heat all heat/fmfs scheme fmfs surface surf", "run 0"});
+  l.cmds({"unfix heat", "fix heat all heat/fmfs scheme fmfs surface surf conservative no", "run 0"});
   double **flag = get_compute(l, "surf")->array_atom;
   int nflag = 0, nouter = 0;
   double worst_in = 0.0, worst_out = 0.0;
@@ -238,7 +238,7 @@ TEST(Laplacian, Quadratic3DFmfsExact)
           "region cube block -1.01 1.01 -1.01 1.01 -1.01 1.01 units box", "create_atoms 1 region cube",
           "mass 1 0.008", "pair_style sph/jc-thermal", material(1, 1.0, 1.0, 1.0),
           "variable T0 atom (x+y+z)^2", "fix sph all sph/jc-thermal tool all temp v_T0",
-          "fix heat all heat/fmfs fmfs_lambda 0", "run 0"});
+          "fix heat all heat/fmfs fmfs_lambda 0 conservative no", "run 0"});
   ASSERT_EQ(l.lmp->atom->nlocal, 1331);
   auto *fix = state_fix(l);
   double worst = 0.0;
@@ -259,7 +259,7 @@ struct Err {
   double max, rms;
 };
 
-Err sine_decay(int n, const char *scheme, double r = 0.2, int every = 1)
+Err sine_decay(int n, const char *scheme, double r = 0.2, int every = 1, const char *extra = "")
 {
   Lammps l;
   const double dx = 1.0 / (n - 1), tend = 0.05;
@@ -271,7 +271,7 @@ Err sine_decay(int n, const char *scheme, double r = 0.2, int every = 1)
   l.cmds({"group edge subtract all inner", sfmt("mass 1 %.17g", dx * dx), "pair_style sph/jc-thermal",
           material(1, 1.0, 1.0, 1.0), "variable T0 atom 1+sin(PI*x)*sin(PI*y)",
           "fix sph all sph/jc-thermal tool all temp v_T0",
-          sfmt("fix heat all heat/fmfs scheme %s every %d dirichlet edge 1", scheme, every), sfmt("timestep %.17g", dt),
+          sfmt("fix heat all heat/fmfs scheme %s every %d dirichlet edge 1 %s", scheme, every, extra), sfmt("timestep %.17g", dt),
           sfmt("run %ld", nsteps)});
   auto *fix = state_fix(l);
   const double amp = exp(-2.0 * M_PI * M_PI * tend);
@@ -285,8 +285,8 @@ Err sine_decay(int n, const char *scheme, double r = 0.2, int every = 1)
     e.rms += d * d;
   }
   e.rms = sqrt(e.rms / nl);
-  printf("[ conduction ] %-9s %2d x %2d, %4ld steps: max error %.4e, rms error %.4e (relative to amplitude)\n",
-         scheme, n, n, nsteps, e.max, e.rms);
+  printf("[ conduction ] %-9s %s %2d x %2d, %4ld steps: max error %.4e, rms error %.4e (relative to amplitude)\n",
+         scheme, extra, n, n, nsteps, e.max, e.rms);
   return e;
 }
 
@@ -298,8 +298,8 @@ Err sine_decay(int n, const char *scheme, double r = 0.2, int every = 1)
 // 1e-5 of the thermal scale) every 10 steps changes the error by little
 TEST(Conduction, SubcyclingEvery10)
 {
-  const Err e1 = sine_decay(21, "fmfs", 0.001, 1);
-  const Err e10 = sine_decay(21, "fmfs", 0.001, 10);
+  const Err e1 = sine_decay(21, "fmfs", 0.001, 1, "conservative no");
+  const Err e10 = sine_decay(21, "fmfs", 0.001, 10, "conservative no");
   printf("[ conduction ] every 1: max error %.4e, every 10: %.4e\n", e1.max, e10.max);
   EXPECT_LT(e1.max, 1.0e-2);
   EXPECT_LT(fabs(e10.max - e1.max), 0.05 * e1.max);
@@ -309,7 +309,7 @@ TEST(Conduction, SineDecayConvergence)
 {
   const int res[3] = {11, 21, 41};
   Err ef[3], eb[3];
-  for (int r = 0; r < 3; r++) ef[r] = sine_decay(res[r], "fmfs");
+  for (int r = 0; r < 3; r++) ef[r] = sine_decay(res[r], "fmfs", 0.2, 1, "conservative no");
   for (int r = 0; r < 3; r++) eb[r] = sine_decay(res[r], "brookshaw");
   const double of1 = log2(ef[0].max / ef[1].max), of2 = log2(ef[1].max / ef[2].max);
   const double ob1 = log2(eb[0].max / eb[1].max), ob2 = log2(eb[1].max / eb[2].max);
@@ -322,6 +322,18 @@ TEST(Conduction, SineDecayConvergence)
   EXPECT_GE(of2, 1.8);
   EXPECT_LT(ef[2].max, 3e-3);
   for (int r = 0; r < 3; r++) EXPECT_TRUE(std::isfinite(eb[r].max) && eb[r].max < 1.0);
+  // the default conservative form (pairs exchange with the mean weight): second order in the
+  // interior (rms), about first order in the max norm next to the boundary, where the two
+  // particles' FMFS weights differ (measured max 3.4e-2, 1.1e-2, 5.0e-3; rms order 1.86, 1.79)
+  Err ec[3];
+  for (int r = 0; r < 3; r++) ec[r] = sine_decay(res[r], "fmfs");
+  const double oc1 = log2(ec[0].rms / ec[1].rms), oc2 = log2(ec[1].rms / ec[2].rms);
+  printf("[ conduction ] conservative FMFS: order (rms error) %.3f %.3f, (max error) %.3f %.3f\n", oc1, oc2,
+         log2(ec[0].max / ec[1].max), log2(ec[1].max / ec[2].max));
+  EXPECT_GE(oc1, 1.7);
+  EXPECT_GE(oc2, 1.7);
+  EXPECT_LT(ec[2].max, 1.5e-2);
+  EXPECT_LT(ec[2].max, 0.5 * eb[2].max);    // still far better than Brookshaw
 }
 
 // adaptive time step (fix sph/jc-thermal cfl) with a heat fix: for rigid particles only the
@@ -361,6 +373,61 @@ TEST(Conduction, ThermalTimeStepLimit)
   l.cmds({"mass 1 0.02", "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 2 E 1 nu 0.3 hdx 1.5 k 4 cp 2",
           "fix sph all sph/jc-thermal tool all cfl 0.5", "timestep 1e-3", "run 0"});
   EXPECT_EQ(l.equal("f_sph[1]"), 1e-3);
+}
+
+// thermal sub-cycling (fix heat/fmfs every N) holds the conduction rate for N steps: the update
+// of a mode dT/dt = -lambda T is then stable for lambda dt < 2/(N + 1) (sphcut_thermal.h
+// thermal_dt_limit), so the thermal limit of the adaptive dt shrinks by 2/(N + 1).  Same scene
+// as above, every 10: the adaptive dt is 0.1 rho cp h^2/k 2/11 and the run stays within the
+// initial range (without the factor the dt was 5.5x larger and the run blew up); a fixed
+// timestep exactly at the refusal limit 0.15 rho cp h^2/k 2/11 runs stably; 1 % past it is refused.
+TEST(Conduction, SubcyclingTimeStepLimit)
+{
+  const double base = 2.0 * 2.0 * 0.15 * 0.15 / 4.0;    // rho cp h^2 / k
+  const double lim = 0.15 * base * 2.0 / 11.0;
+  auto scene = [&](Lammps &l, const std::string &sph, const std::string &ts) {
+    box2d(l, "f f p", 0.1, -1.5, 1.5, -1.5, 1.5);
+    atoms2d(l, 1, 0.1, -1.0, 1.0, -1.0, 1.0);
+    l.cmds({"mass 1 0.02", "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 2 E 1 nu 0.3 hdx 1.5 k 4 cp 2",
+            "variable T0 atom 300+100*(x<0)", "fix sph all sph/jc-thermal tool all temp v_T0" + sph,
+            "fix heat all heat/fmfs scheme brookshaw every 10", "timestep " + ts});
+  };
+  auto range = [&](Lammps &l, double &lo, double &hi) {
+    auto *fix = state_fix(l);
+    lo = 1e300, hi = -1e300;
+    for (int i = 0; i < l.lmp->atom->nlocal; i++) {
+      lo = std::min(lo, fix->state[i][F::TEMP]);
+      hi = std::max(hi, fix->state[i][F::TEMP]);
+    }
+  };
+  {
+    Lammps l;
+    scene(l, " cfl 0.5", "1");
+    l.cmd("run 400");
+    double lo, hi;
+    range(l, lo, hi);
+    const double expect = 0.1 * base * 2.0 / 11.0;
+    printf("[ conduction ] every 10, cfl 0.5: dt %.6g (expected %.6g), T after 400 steps in [%.3f, %.3f]\n",
+           l.equal("f_sph[1]"), expect, lo, hi);
+    EXPECT_NEAR(l.equal("f_sph[1]"), expect, 1e-12 * expect);
+    EXPECT_GE(lo, 300.0 - 1e-9);
+    EXPECT_LE(hi, 400.0 + 1e-9);
+  }
+  {
+    Lammps l;
+    scene(l, "", sfmt("%.17g", lim));
+    l.cmd("run 400");
+    double lo, hi;
+    range(l, lo, hi);
+    printf("[ conduction ] every 10, fixed dt at the limit %.6g: T after 400 steps in [%.3f, %.3f]\n", lim, lo, hi);
+    EXPECT_GE(lo, 299.0);    // stable (near the limit the update may overshoot slightly)
+    EXPECT_LE(hi, 401.0);
+  }
+  {
+    Lammps l;
+    scene(l, "", sfmt("%.17g", 1.01 * lim));
+    EXPECT_TRUE(l.error_contains("run 10", "exceeds the stable limit"));
+  }
 }
 
 // ---------------------------------------------------------------------------
@@ -452,13 +519,7 @@ TEST(Radiation, LumpedStripBrookshaw)
   EXPECT_LT(eb, 1e-10);
 }
 
-// scheme fmfs: the heat the surface particles lose follows h A (T - T_inf) (checked here),
-// but the total energy falls faster than that: +15 % on this strip, +18 to +21 % on strips of
-// 6, 12 and 24 rows (not decreasing with resolution).  The FMFS interior delivers the full
-// flux k dT/dn towards the surface, the Brookshaw surface particles (truncated support) take
-// up only part of it, and the difference is lost: FMFS and Brookshaw do not exchange heat
-// pairwise.  The energy balance is the disabled test below (run it with
-// --gtest_also_run_disabled_tests); it passes with scheme brookshaw (tests above).
+// scheme fmfs: the heat the surface particles lose follows h A (T - T_inf)
 TEST(Convection, LumpedStripFmfsSurfaceLoss)
 {
   Lammps l;
@@ -473,9 +534,7 @@ TEST(Convection, LumpedStripFmfsSurfaceLoss)
   EXPECT_NEAR((q1 - q0) / p, 1.0, 0.02);
 }
 
-// fmfs_lambda 0.95: particles near the surface (truncated support) use Brookshaw too, so the
-// FMFS/Brookshaw seam lies where both agree and the energy balance closes (at first order
-// near the surface instead of second)
+// fmfs_lambda 0.95: particles near the surface (truncated support) use Brookshaw too
 TEST(Convection, LumpedStripFmfsBufferEnergyBalance)
 {
   Lammps l;
@@ -483,17 +542,31 @@ TEST(Convection, LumpedStripFmfsBufferEnergyBalance)
   double er, eb;
   lumped_check(l, "convection fmfs buffer", 1, 3, 150, conv_rate, er, eb);
   EXPECT_LT(er, 0.02);
-  EXPECT_LT(eb, 0.02);
+  EXPECT_LT(eb, 1e-10);
 }
 
-TEST(Convection, DISABLED_LumpedStripFmfsEnergyBalance)
+// the energy balance at the FMFS/Brookshaw seam (issue 11 item 3).  The default conservative
+// form exchanges heat pairwise (mean of the two particles' weights): the energy drop equals the
+// heat lost to round-off (measured 2e-14), and the loss rate follows h A (T - T_inf) (-0.52 %).
+// Per particle (conservative no, the form of seed 003) the FMFS interior delivers the full flux
+// k dT/dn towards the surface, the Brookshaw surface particles (truncated support) take up
+// only part of it, and the energy falls faster than the heat lost: +15 % on this strip (+18 to
+// +21 % on strips of 6, 12 and 24 rows).  Before the conservative default this test failed.
+TEST(Convection, LumpedStripFmfsEnergyBalance)
 {
+  {
+    Lammps l;
+    strip(l, 10.0, "fmfs", sfmt("convection %g %g", HC, TINF));
+    double er, eb;
+    lumped_check(l, "convection fmfs", 1, 3, 150, conv_rate, er, eb);
+    EXPECT_LT(er, 0.015);
+    EXPECT_LT(eb, 1e-10);
+  }
   Lammps l;
-  strip(l, 10.0, "fmfs", sfmt("convection %g %g", HC, TINF));
+  strip(l, 10.0, "fmfs", sfmt("convection %g %g conservative no", HC, TINF));
   double er, eb;
-  lumped_check(l, "convection fmfs", 1, 3, 150, conv_rate, er, eb);
-  EXPECT_LT(er, 0.02);
-  EXPECT_LT(eb, 0.02);
+  lumped_check(l, "convection fmfs per particle", 1, 1, 150, conv_rate, er, eb);
+  EXPECT_GT(eb, 0.1);
 }
 
 // ---------------------------------------------------------------------------

@@ -66,7 +66,7 @@ block() {
   local loop; loop=$(grep "^Loop time" "$log" | tail -1)
   local t n a; t=$(echo "$loop" | awk '{print $4}'); n=$(echo "$loop" | awk '{print $9}'); a=$(echo "$loop" | awk '{print $12}')
   say "$(awk -v l="$label" -v a="$a" -v n="$n" -v t="$t" 'BEGIN{printf "%-22s %9d particles %5d steps %9.3f s  %.3e particle-steps/s\n", l, a, n, t, a*n/t}')"
-  grep -A6 "sphcut timing" "$log" | tail -4 | sed "s/^/    /" >> "$SUM"
+  awk '/sphcut timing/{n++} n==2' "$log" | sed -n '1,8p' | grep -v "^Loop" | sed "s/^/    /" >> "$SUM"
   cd "$ROOT"
 }
 
@@ -96,6 +96,18 @@ taylor() {
   cd "$ROOT"
 }
 
+# Nsight Compute on the pair kernel (1 M particles): speed of light, occupancy, launch
+profile() {
+  command -v ncu > /dev/null || { say "profile: no ncu"; return 0; }
+  mkdir -p /tmp/prof; cd /tmp/prof
+  timeout 400 ncu --kernel-name regex:"full_pass|SecondHalf|stress_pass|initial_integrate" --launch-skip 40 --launch-count 4 \
+    --section SpeedOfLight --section Occupancy --section LaunchStats --section MemoryWorkloadAnalysis \
+    "$BIN" $GPU -in "$ROOT/bench/gpu/in.block" -var nx 80 -var steps 10 -log none > ncu.txt 2>&1
+  cp ncu.txt "$OUT/ncu.txt"
+  grep -E "^  [a-zA-Z_].*\(|Duration|DRAM Throughput|Compute \(SM\) Throughput|Memory Throughput|Achieved Occupancy|Registers Per|Theoretical Occupancy|L1/TEX Hit|L2 Hit" ncu.txt | head -60 >> "$SUM"
+  cd "$ROOT"
+}
+
 arch() {
   PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
   cmake -S "$ROOT" -B "$ROOT/build-cuda90" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
@@ -116,3 +128,4 @@ for mode in "${@:-check}"; do
   $mode
 done
 say "== done ($(date -u +%H:%M:%S))"
+tar czf "$OUT/logs.tar.gz" -C /tmp bench check taylor 2>/dev/null || true
