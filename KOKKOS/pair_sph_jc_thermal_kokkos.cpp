@@ -27,6 +27,14 @@ using sphcut::StateLayout;
 
 namespace {
 
+/* what a particle's neighbours read of it, packed in one row (160 bytes, 5 memory sectors) in
+   the stress pass: position, predicted velocity, density, mass (0: not an SPH solid particle of
+   the group, skipped), sigma/rho^2, artificial stress.  The pair kernel's cost is the irregular
+   loads of its neighbours' data (Nsight Compute: L1-bound, not DRAM- or FLOP-bound); one
+   contiguous row instead of pieces of x, the 49-column state row, mask, type, mass, sigma and R
+   halves the sectors each neighbour costs.                                                      */
+enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_A = 8, PK_R = 14, NPK = 20 };
+
 // sums of one particle kept in registers
 struct LocalAdd {
   double *acc;
@@ -122,8 +130,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int dim = domain->dimension;
   if (atom->nmax > nmax_kk) {
     nmax_kk = atom->nmax;
-    d_sig = typename AT::t_double_2d("pair:sig", nmax_kk, 6);
-    d_rstress = typename AT::t_double_2d("pair:rstress", nmax_kk, 6);
+    d_pack = typename AT::t_double_2d("pair:pack", nmax_kk, NPK);
     if (neighflag != FULL) {
       memoryKK->destroy_kokkos(k_acc);
       k_acc = DAT::tdual_double_2d("pair:acc", nmax_kk, sphcut::NACC);
@@ -180,18 +187,29 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
 
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass(int nall, int any_as)
 {
+  auto x = atomKK->k_x.view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
   auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
-  auto sig = d_sig;
-  auto rs = d_rstress;
+  auto pk = d_pack;
   auto mt = d_mat;
   const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
+  const int use_rmass = atom->rmass_flag;
+  using SL = StateLayout;
   Kokkos::parallel_for(
       Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
-        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == StateLayout::TOOL) return;
-        sphcut::particle_stress(mt(type(i)), dim, any_as, st(i, StateLayout::RHO_F), st(i, StateLayout::TEMP_F),
-                                &st(i, StateLayout::SF), &sig(i, 0), &rs(i, 0));
+        for (int a = 0; a < 3; a++) pk(i, PK_X + a) = x(i, a);
+        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) {
+          pk(i, PK_M) = 0.0;    // not in the SPH solid: its neighbours skip it
+          return;
+        }
+        for (int a = 0; a < 3; a++) pk(i, PK_V + a) = st(i, SL::VEST + a);
+        pk(i, PK_RHO) = st(i, SL::RHO_F);
+        pk(i, PK_M) = use_rmass ? rmass(i) : mass(type(i));
+        sphcut::particle_stress(mt(type(i)), dim, any_as, st(i, SL::RHO_F), st(i, SL::TEMP_F), &st(i, SL::SF),
+                                &pk(i, PK_A), &pk(i, PK_R));
       });
 }
 
@@ -203,61 +221,55 @@ template <class DeviceType>
 template <int DIM>
 void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
 {
-  auto x = atomKK->k_x.view<DeviceType>();
   auto f = atomKK->k_f.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
   auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
-  auto sig = d_sig;
-  auto rs = d_rstress;
+  auto pk = d_pack;
   auto mt = d_mat;
   auto tpt = d_tpair;
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
   auto neighbors = kl->d_neighbors;
   auto numneigh = kl->d_numneigh;
   auto ilist = kl->d_ilist;
-  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit;
-  const int kind = kernel_kind, corr = correction, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
+  const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
   using SL = StateLayout;
 
   Kokkos::parallel_for(
       Kokkos::RangePolicy<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
         const int i = ilist(ii);
-        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
+        const double mi = pk(i, PK_M);
+        if (mi == 0.0) return;    // not in the SPH solid
         const int itype = type(i);
-        const double mi = use_rmass ? rmass(i) : mass(itype);
         double acc[sphcut::NACC];
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
-        in.rho_i = st(i, SL::RHO_F);
-        in.A_i = &sig(i, 0);
-        in.R_i = any_as ? &rs(i, 0) : nullptr;
-        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-        const double vi[3] = {st(i, SL::VEST), st(i, SL::VEST + 1), st(i, SL::VEST + 2)};
+        in.rho_i = pk(i, PK_RHO);
+        in.A_i = &pk(i, PK_A);
+        in.R_i = any_as ? &pk(i, PK_R) : nullptr;
+        const double xi[3] = {pk(i, PK_X), pk(i, PK_X + 1), pk(i, PK_X + 2)};
+        const double vi[3] = {pk(i, PK_V), pk(i, PK_V + 1), pk(i, PK_V + 2)};
         const int jnum = numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!(mask(j) & gb) || sphcut::role_from_mask(mask(j), tb, cb) == SL::TOOL) continue;
           const int jtype = type(j);
           const sphcut::TypePair &tp = tpt(itype * ntp + jtype);
-          for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - x(j, a);
+          for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pk(j, PK_X + a);
           in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
           if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
-          const double mj = use_rmass ? rmass(j) : mass(jtype);
-          for (int a = 0; a < 3; a++) in.dv[a] = st(j, SL::VEST + a) - vi[a];
+          const double mj = pk(j, PK_M);
+          if (mj == 0.0) continue;
+          for (int a = 0; a < 3; a++) in.dv[a] = pk(j, PK_V + a) - vi[a];
           sphcut::set_type_pair(tp, in);
-          in.rho_j = st(j, SL::RHO_F);
-          in.A_j = &sig(j, 0);
-          in.R_j = any_as ? &rs(j, 0) : nullptr;
+          in.rho_j = pk(j, PK_RHO);
+          in.A_j = &pk(j, PK_A);
+          in.R_j = any_as ? &pk(j, PK_R) : nullptr;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
         }
         for (int a = 0; a < 3; a++) f(i, a) += acc[sphcut::ACC_F + a];
         double drho, ds[6], du;
-        sphcut::particle_rates(mt(itype), DIM, corr, acc, &st(i, SL::SF), st(i, SL::RHO_F), drho, ds, du);
+        sphcut::particle_rates(mt(itype), DIM, corr, acc, &st(i, SL::SF), in.rho_i, drho, ds, du);
         st(i, SL::DRHO) += drho;
         for (int k = 0; k < 6; k++) st(i, SL::DS + k) += ds[k];
         st(i, SL::DU) += du;
@@ -273,55 +285,47 @@ template <class DeviceType>
 template <int DIM, int NEWTON>
 void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
 {
-  auto x = atomKK->k_x.view<DeviceType>();
   auto f = atomKK->k_f.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
   auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
-  auto sig = d_sig;
-  auto rs = d_rstress;
+  auto pk = d_pack;
   auto tpt = d_tpair;
   auto accv = k_acc.template view<DeviceType>();
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
   auto neighbors = kl->d_neighbors;
   auto numneigh = kl->d_numneigh;
   auto ilist = kl->d_ilist;
-  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit;
-  const int kind = kernel_kind, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
+  const int kind = kernel_kind, ntp = atom->ntypes + 1;
   const int nlocal = atom->nlocal;
-  using SL = StateLayout;
 
   Kokkos::parallel_for(
       Kokkos::RangePolicy<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
         const int i = ilist(ii);
-        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
+        const double mi = pk(i, PK_M);
+        if (mi == 0.0) return;    // not in the SPH solid
         const int itype = type(i);
-        const double mi = use_rmass ? rmass(i) : mass(itype);
-        const double Vi = mi / st(i, SL::RHO_F);
+        const double Vi = mi / pk(i, PK_RHO);
         double acc[sphcut::NACC];
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
-        in.rho_i = st(i, SL::RHO_F);
-        in.A_i = &sig(i, 0);
-        in.R_i = any_as ? &rs(i, 0) : nullptr;
+        in.rho_i = pk(i, PK_RHO);
+        in.A_i = &pk(i, PK_A);
+        in.R_i = any_as ? &pk(i, PK_R) : nullptr;
         const int jnum = numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!(mask(j) & gb) || sphcut::role_from_mask(mask(j), tb, cb) == SL::TOOL) continue;
           const int jtype = type(j);
           const sphcut::TypePair &tp = tpt(itype * ntp + jtype);
-          for (int a = 0; a < 3; a++) in.dx[a] = x(i, a) - x(j, a);
+          for (int a = 0; a < 3; a++) in.dx[a] = pk(i, PK_X + a) - pk(j, PK_X + a);
           in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
           if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
-          const double mj = use_rmass ? rmass(j) : mass(jtype);
-          for (int a = 0; a < 3; a++) in.dv[a] = st(j, SL::VEST + a) - st(i, SL::VEST + a);
+          const double mj = pk(j, PK_M);
+          if (mj == 0.0) continue;
+          for (int a = 0; a < 3; a++) in.dv[a] = pk(j, PK_V + a) - pk(i, PK_V + a);
           sphcut::set_type_pair(tp, in);
-          in.rho_j = st(j, SL::RHO_F);
-          in.A_j = &sig(j, 0);
-          in.R_j = any_as ? &rs(j, 0) : nullptr;
+          in.rho_j = pk(j, PK_RHO);
+          in.A_j = &pk(j, PK_A);
+          in.R_j = any_as ? &pk(j, PK_R) : nullptr;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
           if (NEWTON || j < nlocal)
@@ -382,7 +386,7 @@ void PairSPHJCThermalKokkos<DeviceType>::unpack_reverse_comm(int n, int *list, d
 
 template <class DeviceType> double PairSPHJCThermalKokkos<DeviceType>::memory_usage()
 {
-  return (double) nmax_kk * (6 + 6 + (neighflag == FULL ? 0 : sphcut::NACC)) * sizeof(double);
+  return (double) nmax_kk * (NPK + (neighflag == FULL ? 0 : sphcut::NACC)) * sizeof(double);
 }
 
 namespace LAMMPS_NS {

@@ -56,7 +56,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   int tables_ready;
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
-  typename AT::t_double_2d d_sig, d_rstress;    // sigma/rho^2, artificial stress: local + ghost
+  typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost
   DAT::tdual_double_2d k_acc;                   // neighbour sums (half lists only)
   void upload_tables();
 };

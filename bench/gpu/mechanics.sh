@@ -6,8 +6,10 @@
 #   check   CPU (1 rank) vs GPU state after 100 steps of a 3D plastic collision (<= 1e-8 relative);
 #           a GPU run split by a restart vs the unsplit one
 #   bench   block collision at 0.1, 1, 4 and 16 M particles: particle-steps/s on the GPU (FP64),
-#           and on the 16 CPU cores with the CPU styles and MPI (0.1, 1, 4 M)
-#   taylor  Taylor bar (examples/taylor-bar) on the GPU at dx 0.4, 0.2, 0.1 mm
+#           and on the 16 CPU cores with the CPU styles and MPI (0.1, 1, 4 M; GPU_ONLY=1: not)
+#   taylor  Taylor bar (examples/taylor-bar) on the GPU at dx 0.4, 0.2, 0.1 mm (TAYLOR_DX)
+#   taylor_cpu  the same on the 16 CPU cores with the CPU styles (TAYLOR_DX, default 0.4 0.2 mm)
+#   profile Nsight Compute on the main kernels at 1 M particles
 #   arch    the plugin also built with native sm_90 code: the 1 M and 4 M block runs again
 # Results (logs, summary.txt) go to $OUT (or ./gpu-out).  Figures: bench/gpu/RESULTS.md.
 set -uo pipefail
@@ -77,6 +79,7 @@ bench() {
   block gpu-1M "$BIN" $GPU -var nx 80 -var steps 100
   block gpu-4M "$BIN" $GPU -var nx 126 -var steps 50
   block gpu-16M "$BIN" $GPU -var nx 200 -var steps 20
+  [ -n "${GPU_ONLY:-}" ] && return 0
   block cpu16-0.1M mpirun -np 16 "$BIN" -var nx 37 -var steps 20
   block cpu16-1M mpirun -np 16 "$BIN" -var nx 80 -var steps 10
   block cpu16-4M mpirun -np 16 "$BIN" -var nx 126 -var steps 5
@@ -100,7 +103,9 @@ taylor() {
 profile() {
   command -v ncu > /dev/null || { say "profile: no ncu"; return 0; }
   mkdir -p /tmp/prof; cd /tmp/prof
-  timeout 400 ncu --kernel-name regex:"full_pass|SecondHalf|stress_pass|initial_integrate" --launch-skip 40 --launch-count 4 \
+  # Kokkos names every kernel cuda_parallel_launch_*: select by the functor in the demangled name
+  timeout 400 ncu --kernel-name-base demangled --kernel-name regex:"${PROFILE_KERNELS:-full_pass|SecondHalf|initial_integrate|stress_pass}" \
+    --launch-skip 8 --launch-count "${PROFILE_COUNT:-4}" \
     --section SpeedOfLight --section Occupancy --section LaunchStats --section MemoryWorkloadAnalysis \
     "$BIN" $GPU -in "$ROOT/bench/gpu/in.block" -var nx 80 -var steps 10 -log none > ncu.txt 2>&1
   cp ncu.txt "$OUT/ncu.txt"
@@ -108,12 +113,27 @@ profile() {
   cd "$ROOT"
 }
 
+# the same Taylor bar with the CPU styles on the 16 cores (MPI): GPU and CPU over a whole run
+taylor_cpu() {
+  mkdir -p /tmp/taylor; cd /tmp/taylor
+  for dx in ${TAYLOR_DX:-0.4e-3 0.2e-3}; do
+    local t0; t0=$(date +%s)
+    timeout "${TAYLOR_TIMEOUT:-500}" mpirun -np 16 "$BIN" -in "$ROOT/examples/taylor-bar/in.taylor" -var dx $dx \
+      -log log.taylor-cpu16-$dx > screen-cpu-$dx 2>&1 || say "taylor cpu16 dx $dx: FAILED or timed out"
+    say "taylor cpu16 dx $dx: $(grep '^TAYLOR' log.taylor-cpu16-$dx), wall $(( $(date +%s) - t0 )) s"
+    grep "^Loop time" log.taylor-cpu16-$dx | tail -2 >> "$SUM"
+  done
+  cd "$ROOT"
+}
+
 arch() {
   PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
   cmake -S "$ROOT" -B "$ROOT/build-cuda90" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
-    -DCMAKE_CXX_FLAGS="-gencode arch=compute_90,code=sm_90" > "$OUT/plugin-build90.log" 2>&1 \
+    -DSPHCUT_CUDA_ARCH=sm_90 > "$OUT/plugin-build90.log" 2>&1 \
     && cmake --build "$ROOT/build-cuda90" -j "$NJ" >> "$OUT/plugin-build90.log" 2>&1 \
     || { tail -20 "$OUT/plugin-build90.log"; return 0; }
+  grep "sphcut:.*-arch" "$OUT/plugin-build90.log" | tee -a "$SUM"
+  command -v cuobjdump > /dev/null && cuobjdump --list-elf "$ROOT/build-cuda90/sphcutplugin.so" 2>&1 | head -3 | tee -a "$SUM"
   local p90="env LAMMPS_PLUGIN_PATH=$ROOT/build-cuda90"
   block sm80ptx-1M "$BIN" $GPU -var nx 80 -var steps 100
   block sm90-1M $p90 "$BIN" $GPU -var nx 80 -var steps 100
