@@ -35,6 +35,37 @@ namespace {
    halves the sectors each neighbour costs.                                                      */
 enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_A = 8, PK_R = 14, NPK = 20 };
 
+// particle i's side of its pairs, from its packed row
+template <class PK>
+KOKKOS_INLINE_FUNCTION void gather_i(const PK &pk, int i, int any_as, double *xi, double *vi, sphcut::PairIn &in)
+{
+  for (int a = 0; a < 3; a++) {
+    xi[a] = pk(i, PK_X + a);
+    vi[a] = pk(i, PK_V + a);
+  }
+  in.rho_i = pk(i, PK_RHO);
+  in.A_i = &pk(i, PK_A);
+  in.R_i = any_as ? &pk(i, PK_R) : nullptr;
+}
+
+// the inputs of pair i-j; false when j is beyond the cutoff or not in the SPH solid
+template <class PK>
+KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair &tp, int j, int any_as, const double *xi,
+                                     const double *vi, sphcut::PairIn &in, double &mj)
+{
+  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pk(j, PK_X + a);
+  in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+  if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
+  mj = pk(j, PK_M);
+  if (mj == 0.0) return false;
+  for (int a = 0; a < 3; a++) in.dv[a] = pk(j, PK_V + a) - vi[a];
+  sphcut::set_type_pair(tp, in);
+  in.rho_j = pk(j, PK_RHO);
+  in.A_j = &pk(j, PK_A);
+  in.R_j = any_as ? &pk(j, PK_R) : nullptr;
+  return true;
+}
+
 // sums of one particle kept in registers
 struct LocalAdd {
   double *acc;
@@ -244,26 +275,12 @@ void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
-        in.rho_i = pk(i, PK_RHO);
-        in.A_i = &pk(i, PK_A);
-        in.R_i = any_as ? &pk(i, PK_R) : nullptr;
-        const double xi[3] = {pk(i, PK_X), pk(i, PK_X + 1), pk(i, PK_X + 2)};
-        const double vi[3] = {pk(i, PK_V), pk(i, PK_V + 1), pk(i, PK_V + 2)};
+        double xi[3], vi[3], mj;
+        gather_i(pk, i, any_as, xi, vi, in);
         const int jnum = numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
-          const int jtype = type(j);
-          const sphcut::TypePair &tp = tpt(itype * ntp + jtype);
-          for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pk(j, PK_X + a);
-          in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-          if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
-          const double mj = pk(j, PK_M);
-          if (mj == 0.0) continue;
-          for (int a = 0; a < 3; a++) in.dv[a] = pk(j, PK_V + a) - vi[a];
-          sphcut::set_type_pair(tp, in);
-          in.rho_j = pk(j, PK_RHO);
-          in.A_j = &pk(j, PK_A);
-          in.R_j = any_as ? &pk(j, PK_R) : nullptr;
+          if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
         }
@@ -308,24 +325,12 @@ void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
-        in.rho_i = pk(i, PK_RHO);
-        in.A_i = &pk(i, PK_A);
-        in.R_i = any_as ? &pk(i, PK_R) : nullptr;
+        double xi[3], vi[3], mj;
+        gather_i(pk, i, any_as, xi, vi, in);
         const int jnum = numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
-          const int jtype = type(j);
-          const sphcut::TypePair &tp = tpt(itype * ntp + jtype);
-          for (int a = 0; a < 3; a++) in.dx[a] = pk(i, PK_X + a) - pk(j, PK_X + a);
-          in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-          if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
-          const double mj = pk(j, PK_M);
-          if (mj == 0.0) continue;
-          for (int a = 0; a < 3; a++) in.dv[a] = pk(j, PK_V + a) - pk(i, PK_V + a);
-          sphcut::set_type_pair(tp, in);
-          in.rho_j = pk(j, PK_RHO);
-          in.A_j = &pk(j, PK_A);
-          in.R_j = any_as ? &pk(j, PK_R) : nullptr;
+          if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
           if (NEWTON || j < nlocal)

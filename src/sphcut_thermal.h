@@ -233,6 +233,47 @@ SPHCUT_INLINE bool fmfs_gradient(const FmfsAccum<DIM> &acc, double *grad, double
   return ok;
 }
 
+// the second-order system of FMFS shared by fmfs_laplacian and fmfs_weights: with A = B^-1,
+// W_ab,e = Q3_abf A_fe and K_(ab),(cd) = M_abcd + M_abdc (c < d) or M_abcc (c == d),
+// M_abcd = P4_abcd - W_ab,e T3_ecd, solve K G = delta for the packed symmetric G; false
+// where K is singular
+template <int DIM>
+SPHCUT_INLINE bool fmfs_system(const FmfsAccum<DIM> &acc, const double (&A)[DIM][DIM],
+                               double (&G)[FmfsAccum<DIM>::NS], double tol)
+{
+  constexpr int NS = FmfsAccum<DIM>::NS;
+  // W_ab,e = Q3_abf A_fe
+  double W[NS][DIM];
+  for (int p = 0; p < NS; p++)
+    for (int e = 0; e < DIM; e++) {
+      double s = 0.0;
+      for (int f = 0; f < DIM; f++) s += acc.Q3[p][f] * A[f][e];
+      W[p][e] = s;
+    }
+
+  // K_(ab),(cd) = M_abcd + M_abdc (c < d) or M_abcc (c == d),
+  // M_abcd = P4_abcd - W_ab,e T3_ecd;  rhs delta_ab
+  double K[NS][NS];
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) {
+      const int p = sym_pair_index(a, b);
+      G[p] = a == b ? 1.0 : 0.0;
+      for (int d = 0; d < DIM; d++)
+        for (int c = 0; c <= d; c++) {
+          const int q = sym_pair_index(c, d);
+          double m = acc.P4[sym_triple_index(a, b, c)][d];
+          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
+          if (c != d) {
+            m += acc.P4[sym_triple_index(a, b, d)][c];
+            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
+          }
+          K[p][q] = m;
+        }
+    }
+
+  return dense_solve<NS>(K, G, tol);
+}
+
 // second-order Laplacian lap = G:S.  Returns false (lap = 0) when B or the
 // G system is singular/ill-conditioned: the caller falls back to Brookshaw.
 template <int DIM>
@@ -260,40 +301,13 @@ SPHCUT_INLINE bool fmfs_laplacian(const FmfsAccum<DIM> &acc, double &lap, double
       S[c][d] = s;
     }
 
-  // W_ab,e = Q3_abf A_fe
-  double W[NS][DIM];
-  for (int p = 0; p < NS; p++)
-    for (int e = 0; e < DIM; e++) {
-      double s = 0.0;
-      for (int f = 0; f < DIM; f++) s += acc.Q3[p][f] * A[f][e];
-      W[p][e] = s;
-    }
-
-  // K_(ab),(cd) = M_abcd + M_abdc (c < d) or M_abcc (c == d),
-  // M_abcd = P4_abcd - W_ab,e T3_ecd;  rhs delta_ab
-  double K[NS][NS], rhs[NS], Ssym[NS];
-  for (int b = 0; b < DIM; b++)
-    for (int a = 0; a <= b; a++) {
-      const int p = sym_pair_index(a, b);
-      rhs[p] = a == b ? 1.0 : 0.0;
-      for (int d = 0; d < DIM; d++)
-        for (int c = 0; c <= d; c++) {
-          const int q = sym_pair_index(c, d);
-          double m = acc.P4[sym_triple_index(a, b, c)][d];
-          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
-          if (c != d) {
-            m += acc.P4[sym_triple_index(a, b, d)][c];
-            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
-          }
-          K[p][q] = m;
-        }
-    }
+  double G[NS];
+  if (!fmfs_system<DIM>(acc, A, G, tol)) return false;
+  double Ssym[NS];
   for (int d = 0; d < DIM; d++)
     for (int c = 0; c <= d; c++) Ssym[sym_pair_index(c, d)] = c == d ? S[c][c] : S[c][d] + S[d][c];
-
-  if (!dense_solve<NS>(K, rhs, tol)) return false;    // rhs <- G (packed)
   double l = 0.0;
-  for (int q = 0; q < NS; q++) l += rhs[q] * Ssym[q];
+  for (int q = 0; q < NS; q++) l += G[q] * Ssym[q];
   if (!(fabs(l) < 1.0e300)) return false;    // NaN / overflow guard
   lap = l;
   return true;
@@ -313,33 +327,9 @@ SPHCUT_INLINE bool fmfs_weights(const FmfsAccum<DIM> &acc, double *wts, double t
 {
   constexpr int NS = FmfsAccum<DIM>::NS;
   for (int k = 0; k < DIM * DIM + DIM; k++) wts[k] = 0.0;
-  double A[DIM][DIM];
+  double A[DIM][DIM], rhs[NS];
   if (!dense_inverse<DIM>(acc.B, A, tol)) return false;
-  double W[NS][DIM];
-  for (int p = 0; p < NS; p++)
-    for (int e = 0; e < DIM; e++) {
-      double s = 0.0;
-      for (int f = 0; f < DIM; f++) s += acc.Q3[p][f] * A[f][e];
-      W[p][e] = s;
-    }
-  double K[NS][NS], rhs[NS];
-  for (int b = 0; b < DIM; b++)
-    for (int a = 0; a <= b; a++) {
-      const int p = sym_pair_index(a, b);
-      rhs[p] = a == b ? 1.0 : 0.0;
-      for (int d = 0; d < DIM; d++)
-        for (int c = 0; c <= d; c++) {
-          const int q = sym_pair_index(c, d);
-          double m = acc.P4[sym_triple_index(a, b, c)][d];
-          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
-          if (c != d) {
-            m += acc.P4[sym_triple_index(a, b, d)][c];
-            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
-          }
-          K[p][q] = m;
-        }
-    }
-  if (!dense_solve<NS>(K, rhs, tol)) return false;
+  if (!fmfs_system<DIM>(acc, A, rhs, tol)) return false;
   double Gf[DIM][DIM];
   for (int c = 0; c < DIM; c++)
     for (int d = 0; d < DIM; d++) Gf[c][d] = rhs[sym_pair_index(c, d)];
