@@ -74,6 +74,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void remap_state();
 
  protected:
+  double dt_next;              // this rank's stable dt, from final_integrate's reduction
   int remap;                   // 1: state rows follow the atoms by tag (one rank), 0: grow callback
   int nrows;                   // rows holding the state of the atoms labelled in k_rowtag
   DAT::tdual_tagint_1d k_rowtag;    // tag of the atom whose state each row holds
@@ -83,7 +84,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void grow_on_device(int n);
   t_mat d_mat;                 // materials per type (device copy of the pair's)
   t_h d_h;                     // smoothing length per type
-  double dt_next;              // this rank's stable dt, from final_integrate's reduction
   void upload_tables();
   void sync_host_state() { k_state.sync_host(); }
   void modified_host_state() { k_state.modify_host(); }

@@ -66,6 +66,20 @@ KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair &tp, i
   return true;
 }
 
+// the rates of particle i from its neighbour sums, into its state row
+template <class ST>
+KOKKOS_INLINE_FUNCTION void store_rates(const sphcut::Material &mt, int dim, int corr, const double *acc, const ST &st,
+                                        int i)
+{
+  using SL = sphcut::StateLayout;
+  double drho, ds[6], du;
+  sphcut::particle_rates(mt, dim, corr, acc, &st(i, SL::SF), st(i, SL::RHO_F), drho, ds, du);
+  st(i, SL::DRHO) += drho;
+  for (int k = 0; k < 6; k++) st(i, SL::DS + k) += ds[k];
+  st(i, SL::DU) += du;
+  for (int a = 0; a < 3; a++) st(i, SL::XSPH + a) = acc[sphcut::ACC_XS + a];
+}
+
 // sums of one particle kept in registers
 struct LocalAdd {
   double *acc;
@@ -175,8 +189,8 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   stress_pass(nall, any_as);
   const int inum = list->inum;
   if (neighflag == FULL) {
-    if (dim == 2) full_pass<2>(inum, any_as);
-    else full_pass<3>(inum, any_as);
+    if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
+    else neigh_pass<3, 0, 0>(inum, any_as);
   } else {
     const int newton = force->newton_pair;
     // clear the sums (ghosts too with newton: they come back by reverse communication)
@@ -187,11 +201,11 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
           for (int k = 0; k < sphcut::NACC; k++) acc(i, k) = 0.0;
         });
     if (dim == 2) {
-      if (newton) half_pass<2, 1>(inum, any_as);
-      else half_pass<2, 0>(inum, any_as);
+      if (newton) neigh_pass<2, 1, 1>(inum, any_as);
+      else neigh_pass<2, 1, 0>(inum, any_as);
     } else {
-      if (newton) half_pass<3, 1>(inum, any_as);
-      else half_pass<3, 0>(inum, any_as);
+      if (newton) neigh_pass<3, 1, 1>(inum, any_as);
+      else neigh_pass<3, 1, 0>(inum, any_as);
     }
     k_acc.template modify<DeviceType>();
     if (newton) {
@@ -245,12 +259,16 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
 }
 
 /* ----------------------------------------------------------------------
-   full list: every pair seen from both particles, sums in registers
+   the neighbour pass.  Full list (HALF = 0): every pair is seen from both
+   particles; each thread sums its particle's pairs in registers and writes
+   its force and rates, no atomics.  Half list (HALF = 1): each pair once,
+   j's share by atomics (j < nlocal, or any j with newton), the sums of i
+   added atomically at the end; the rates follow in rates_pass.
 ------------------------------------------------------------------------- */
 
 template <class DeviceType>
-template <int DIM>
-void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
+template <int DIM, int HALF, int NEWTON>
+void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
   auto f = atomKK->k_f.view<DeviceType>();
   auto type = atomKK->k_type.view<DeviceType>();
@@ -258,60 +276,12 @@ void PairSPHJCThermalKokkos<DeviceType>::full_pass(int inum, int any_as)
   auto pk = d_pack;
   auto mt = d_mat;
   auto tpt = d_tpair;
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
-  const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
-  using SL = StateLayout;
-
-  Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
-        const int i = ilist(ii);
-        const double mi = pk(i, PK_M);
-        if (mi == 0.0) return;    // not in the SPH solid
-        const int itype = type(i);
-        double acc[sphcut::NACC];
-        for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
-        sphcut::PairIn in;
-        sphcut::PairOut out;
-        double xi[3], vi[3], mj;
-        gather_i(pk, i, any_as, xi, vi, in);
-        const int jnum = numneigh(i);
-        for (int jj = 0; jj < jnum; jj++) {
-          const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) continue;
-          sphcut::pair_terms<DIM>(kind, in, out);
-          sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
-        }
-        for (int a = 0; a < 3; a++) f(i, a) += acc[sphcut::ACC_F + a];
-        double drho, ds[6], du;
-        sphcut::particle_rates(mt(itype), DIM, corr, acc, &st(i, SL::SF), in.rho_i, drho, ds, du);
-        st(i, SL::DRHO) += drho;
-        for (int k = 0; k < 6; k++) st(i, SL::DS + k) += ds[k];
-        st(i, SL::DU) += du;
-        for (int a = 0; a < 3; a++) st(i, SL::XSPH + a) = acc[sphcut::ACC_XS + a];
-      });
-}
-
-/* ----------------------------------------------------------------------
-   half list: each pair once, j's share by atomics (j < nlocal or newton)
-------------------------------------------------------------------------- */
-
-template <class DeviceType>
-template <int DIM, int NEWTON>
-void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
-{
-  auto f = atomKK->k_f.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto pk = d_pack;
-  auto tpt = d_tpair;
   auto accv = k_acc.template view<DeviceType>();
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
   auto neighbors = kl->d_neighbors;
   auto numneigh = kl->d_numneigh;
   auto ilist = kl->d_ilist;
-  const int kind = kernel_kind, ntp = atom->ntypes + 1;
+  const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
   const int nlocal = atom->nlocal;
 
   Kokkos::parallel_for(
@@ -320,25 +290,30 @@ void PairSPHJCThermalKokkos<DeviceType>::half_pass(int inum, int any_as)
         const double mi = pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
         const int itype = type(i);
-        const double Vi = mi / pk(i, PK_RHO);
         double acc[sphcut::NACC];
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
         double xi[3], vi[3], mj;
         gather_i(pk, i, any_as, xi, vi, in);
+        const double Vi = mi / in.rho_i;
         const int jnum = numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
           if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
-          if (NEWTON || j < nlocal)
+          if (HALF && (NEWTON || j < nlocal))
             sphcut::pair_accumulate<DIM>(in, out, mi * mj, mi, Vi, -1.0, AtomicAdd<DeviceType>{accv, f, j});
         }
-        AtomicAdd<DeviceType> to_i{accv, f, i};
-        for (int k = 0; k < sphcut::NACC; k++)
-          if (acc[k] != 0.0) to_i(k, acc[k]);
+        if (HALF) {
+          AtomicAdd<DeviceType> to_i{accv, f, i};
+          for (int k = 0; k < sphcut::NACC; k++)
+            if (acc[k] != 0.0) to_i(k, acc[k]);
+        } else {
+          for (int a = 0; a < 3; a++) f(i, a) += acc[sphcut::ACC_F + a];
+          store_rates(mt(itype), DIM, corr, acc, st, i);
+        }
       });
 }
 
@@ -356,12 +331,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(
   Kokkos::parallel_for(
       Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
-        double drho, ds[6], du;
-        sphcut::particle_rates(mt(type(i)), dim, corr, &accv(i, 0), &st(i, SL::SF), st(i, SL::RHO_F), drho, ds, du);
-        st(i, SL::DRHO) += drho;
-        for (int k = 0; k < 6; k++) st(i, SL::DS + k) += ds[k];
-        st(i, SL::DU) += du;
-        for (int a = 0; a < 3; a++) st(i, SL::XSPH + a) = accv(i, sphcut::ACC_XS + a);
+        store_rates(mt(type(i)), dim, corr, &accv(i, 0), st, i);
       });
 }
 

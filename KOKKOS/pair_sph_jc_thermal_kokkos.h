@@ -45,8 +45,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
 
   // the passes (public: they launch device lambdas)
   void stress_pass(int nall, int any_as);
-  template <int DIM> void full_pass(int inum, int any_as);
-  template <int DIM, int NEWTON> void half_pass(int inum, int any_as);
+  template <int DIM, int HALF, int NEWTON> void neigh_pass(int inum, int any_as);
   void rates_pass(int nlocal);
 
  protected:

@@ -133,13 +133,9 @@ template <int DIM> void ComputeSurfaceLambda::compute_dim()
       const int j = jlist[jj] & NEIGHMASK;
       if (!(mask[j] & groupbit)) continue;
       if (!tool_hides && (fix->role_of(mask[j]) == F::TOOL) != itool) continue;
-      double r[3], r2 = 0.0;
-      for (int a = 0; a < 3; a++) {
-        r[a] = x[j][a] - x[i][a];
-        r2 += r[a] * r[a];
-      }
       const double h = pair->smoothing_length(type[i], type[j]);
-      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+      double r[3], r2;    // x_j - x_i
+      if (!sphcut::in_support(x[j], x[i], h, r, r2)) continue;
       double w, wfac;
       sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
       const double vj = (rmass ? rmass[j] : mass[type[j]]) / st[j][F::RHO_F];

@@ -306,13 +306,9 @@ template <int DIM> void FixHeatFMFS::conduction()
       const int j = jlist[jj] & NEIGHMASK;
       if (!(mask[j] & groupbit)) continue;
       const int jtype = type[j];
-      double dx[3], r2 = 0.0;
-      for (int a = 0; a < 3; a++) {
-        dx[a] = x[i][a] - x[j][a];
-        r2 += dx[a] * dx[a];
-      }
       const double h = pair->smoothing_length(itype, jtype);
-      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+      double dx[3], r2;
+      if (!sphcut::in_support(x[i], x[j], h, dx, r2)) continue;
       double w, wfac;
       sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
       const double Tj = st[j][F::TEMP_F];
@@ -385,13 +381,9 @@ template <int DIM> int FixHeatFMFS::fmfs_choice(int i, double *wts)
   for (int jj = 0; jj < list->numneigh[i]; jj++) {
     const int j = jlist[jj] & NEIGHMASK;
     if (!(mask[j] & groupbit)) continue;
-    double dx[3], r2 = 0.0;
-    for (int a = 0; a < 3; a++) {
-      dx[a] = x[i][a] - x[j][a];
-      r2 += dx[a] * dx[a];
-    }
     const double h = pair->smoothing_length(type[i], type[j]);
-    if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+    double dx[3], r2;
+    if (!sphcut::in_support(x[i], x[j], h, dx, r2)) continue;
     if (mat[type[j]].kappa != mi.kappa) return 0;    // material interface: Brookshaw
     double w, wfac;
     sphcut::kernel_w_gradfac(pair->kernel(), DIM, sqrt(r2), h, w, wfac);
@@ -454,13 +446,9 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
       const int j = jlist[jj] & NEIGHMASK;
       if (!(mask[j] & groupbit)) continue;
       const int jtype = type[j];
-      double dx[3], r2 = 0.0;
-      for (int a = 0; a < 3; a++) {
-        dx[a] = x[i][a] - x[j][a];
-        r2 += dx[a] * dx[a];
-      }
       const double h = pair->smoothing_length(itype, jtype);
-      if (r2 >= 4.0 * h * h || r2 == 0.0) continue;
+      double dx[3], r2;
+      if (!sphcut::in_support(x[i], x[j], h, dx, r2)) continue;
       double w, wfac;
       sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
       const double kj = mat[jtype].kappa;

@@ -63,6 +63,17 @@ SPHCUT_INLINE void kernel_shape(int kind, double q, double &f, double &df)
   }
 }
 
+// x_i - x_j and its square; false beyond the support 2h or for coincident particles
+SPHCUT_INLINE bool in_support(const double *xi, const double *xj, double h, double *dx, double &r2)
+{
+  r2 = 0.0;
+  for (int a = 0; a < 3; a++) {
+    dx[a] = xi[a] - xj[a];
+    r2 += dx[a] * dx[a];
+  }
+  return r2 < 4.0 * h * h && r2 != 0.0;
+}
+
 // W(r, h)
 SPHCUT_INLINE double kernel_w(int kind, int dim, double r, double h)
 {
