@@ -7,6 +7,9 @@
 
 #include "update.h"
 
+#include <fstream>
+#include <sstream>
+
 using namespace sphcut_test;
 
 namespace {
@@ -113,6 +116,78 @@ TEST(Kokkos, StateFollowsAtomsThroughSortAndDelete)
     snap[k] = take(l);
   }
   expect_same(snap[0], snap[1], "sort+del");
+}
+
+// the rows of a one-frame dump file (sorted by id), all columns as numbers
+std::vector<std::vector<double>> dump_rows(const std::string &file)
+{
+  std::ifstream in(file);
+  std::string line;
+  std::vector<std::vector<double>> rows;
+  bool atoms = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("ITEM: ATOMS", 0) == 0) {
+      atoms = true;
+      continue;
+    }
+    if (!atoms) continue;
+    std::istringstream ls(line);
+    std::vector<double> v;
+    for (double d; ls >> d;) v.push_back(d);
+    rows.push_back(v);
+  }
+  return rows;
+}
+
+// outputs during a /kk run read the state of that step: dump_sph frames in the middle of the
+// run and at its end, and the fix's global values on the thermo steps, as with the CPU styles
+TEST(Kokkos, DumpsAndThermoAsOnTheCpu)
+{
+  double thermo[2][3];
+  for (int k = 0; k < 2; k++) {
+    Lammps l(MPI_COMM_WORLD, k ? KK_FULL : std::vector<std::string>{});
+    l.cmds(collision(k ? "off" : "on"));
+    const std::string name = k ? "kk" : "cpu";
+    l.cmds({"dump_sph d all 50 dump." + name + ".* id density vonmises plastic_strain temperature vx",
+            "dump_modify d sort id format float %.17g",
+            "variable wp equal f_sph[4]", "variable tmax equal f_sph[5]",
+            "fix out all print 50 \"${wp} ${tmax}\" file thermo." + name + " screen no", "run 100"});
+    std::ifstream in("thermo." + name);
+    std::string line;
+    std::vector<double> v;
+    while (std::getline(in, line))
+      if (!line.empty() && line[0] != '#') {
+        std::istringstream ls(line);
+        double a, b;
+        ls >> a >> b;
+        v.push_back(a);
+        v.push_back(b);
+      }
+    ASSERT_EQ(v.size(), 6u);    // steps 0, 50, 100
+    thermo[k][0] = v[2];        // plastic work at step 50
+    thermo[k][1] = v[3];        // max temperature at step 50
+    thermo[k][2] = v[4];        // plastic work at step 100
+  }
+  for (int c = 0; c < 3; c++) EXPECT_NEAR(thermo[1][c], thermo[0][c], 1e-10 * fabs(thermo[0][c])) << c;
+  EXPECT_GT(thermo[0][0], 0.0);
+  for (const char *step : {"50", "100"}) {
+    const auto a = dump_rows(std::string("dump.cpu.") + step), b = dump_rows(std::string("dump.kk.") + step);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GT(a.size(), 300u);
+    double worst = 0.0;
+    for (size_t c = 1; c < a[0].size(); c++) {
+      double scale = 0.0, diff = 0.0;
+      for (size_t r = 0; r < a.size(); r++) {
+        scale = std::max(scale, fabs(a[r][c]));
+        diff = std::max(diff, fabs(a[r][c] - b[r][c]));
+      }
+      if (scale > 0.0) worst = std::max(worst, diff / scale);
+    }
+    int me;
+    MPI_Comm_rank(MPI_COMM_WORLD, &me);
+    if (me == 0) std::printf("[ dumps    ] step %s: dump_sph /kk vs CPU, max relative difference %.3e\n", step, worst);
+    EXPECT_LT(worst, 1e-10) << step;
+  }
 }
 
 // energy: kinetic + internal energy of the elastic-plastic collision is conserved by the scheme
