@@ -282,7 +282,6 @@ template <int DIM> void FixHeatFMFS::conduction()
   using F = FixSPHJCThermal;
   double p_conv = 0.0, p_rad = 0.0;
   for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
-  const double sigma_sb = STEFAN_BOLTZMANN_SI;
   sphcut::FmfsAccum<DIM> acc;
 
   for (int ii = 0; ii < list->inum; ii++) {
@@ -340,10 +339,8 @@ template <int DIM> void FixHeatFMFS::conduction()
     double dT = rate / (rhoi * mi.cp);
 
     if (surf && (hconv > 0.0 || emiss > 0.0)) {
-      const double vol = massi / rhoi;
-      const double area = DIM == 2 ? sqrt(vol) : pow(vol, 2.0 / 3.0);
-      const double qc = hconv * (Ti - tconv) * area;
-      const double qr = emiss * sigma_sb * (Ti * Ti * Ti * Ti - trad * trad * trad * trad) * area;
+      double qc, qr;
+      sphcut::surface_losses(DIM, massi / rhoi, Ti, hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, qc, qr);
       p_conv += qc;
       p_rad += qr;
       dT -= (qc + qr) / (massi * mi.cp);
@@ -411,7 +408,6 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   const Material *mat = pair->materials();
   const int kernel = pair->kernel();
   using F = FixSPHJCThermal;
-  constexpr int NW = DIM * DIM + DIM;
   if (atom->nmax > nmax_fwts) {
     nmax_fwts = atom->nmax;
     memory->destroy(fwts);
@@ -464,17 +460,14 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
     double dT = rate / (rhoi * mi.cp);
     const int surf = surface ? surface->is_surface(i) : 0;
     if (surf && (hconv > 0.0 || emiss > 0.0)) {
-      const double vol = massi / rhoi;
-      const double area = DIM == 2 ? sqrt(vol) : pow(vol, 2.0 / 3.0);
-      const double qc = hconv * (Ti - tconv) * area;
-      const double qr = emiss * STEFAN_BOLTZMANN_SI * (Ti * Ti * Ti * Ti - trad * trad * trad * trad) * area;
+      double qc, qr;
+      sphcut::surface_losses(DIM, massi / rhoi, Ti, hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, qc, qr);
       p_conv += qc;
       p_rad += qr;
       dT -= (qc + qr) / (massi * mi.cp);
     }
     held[i] = dT;
   }
-  (void) NW;
   held_conv = p_conv;
   held_rad = p_rad;
 }

@@ -351,6 +351,17 @@ SPHCUT_INLINE bool fmfs_weights(const FmfsAccum<DIM> &acc, double *wts, double t
   return true;
 }
 
+// heat lost by a free-surface particle of volume vol at temperature T (2D: per unit
+// thickness), with the area A = vol^((d-1)/d): convection qc = hconv (T - tconv) A and
+// radiation qr = emiss_sigma (T^4 - trad^4) A (emiss_sigma: emissivity times Stefan-Boltzmann)
+SPHCUT_INLINE void surface_losses(int dim, double vol, double T, double hconv, double tconv, double emiss_sigma,
+                                  double trad, double &qc, double &qr)
+{
+  const double area = dim == 2 ? sqrt(vol) : pow(vol, 2.0 / 3.0);
+  qc = hconv * (T - tconv) * area;
+  qr = emiss_sigma * (T * T * T * T - trad * trad * trad * trad) * area;
+}
+
 // w_ij of neighbour j from the stored weights of particle i: r = x_j - x_i, g = grad_i W_ij
 template <int DIM>
 SPHCUT_INLINE double fmfs_pair_weight(const double *wts, const double *r, const double *g)
