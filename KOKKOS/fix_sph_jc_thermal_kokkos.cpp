@@ -123,13 +123,8 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   memory->destroy(state);
   state = nullptr;
   grow_arrays(atom->nmax);
-  for (int i = 0; i < atom->nlocal; i++) {
-    initialize_atom(i);
-    rowtag[i] = atom->tag[i];
-  }
-  nrows = atom->nlocal;
+  for (int i = 0; i < atom->nlocal; i++) initialize_atom(i);
   k_state.modify_host();
-  k_rowtag.modify_host();
   remap = comm->nprocs == 1 && atom->tag_enable;
 }
 
@@ -228,8 +223,6 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
         if (d < m) m = d;
       },
       Kokkos::Min<double>(dtloc));
-  // (the attached styles' limits: none run under /kk yet)
-  for (auto *a : timed) dtloc = std::min(dtloc, a->dt_limit(cfl, thermal_cfl));
   return finish_dt(dtloc);
 }
 
@@ -391,11 +384,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step()
 {
   sphcut::FencedTimer timer(cpu_time);
-  if (cfl > 0.0) {
-    double dtloc = dt_next;
-    for (auto *a : timed) dtloc = std::min(dtloc, a->dt_limit(cfl, thermal_cfl));
-    apply_dt(finish_dt(dtloc));
-  }
+  if (cfl > 0.0) apply_dt(finish_dt(dt_next));
   // dumps and f_ID outputs read the host array on output steps
   if (update->ntimestep == output->next) k_state.sync_host();
 }
@@ -582,12 +571,8 @@ template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::pack_restart(
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::unpack_restart(int nlocal, int nth)
 {
   k_state.sync_host();
-  k_rowtag.sync_host();
   FixSPHJCThermal::unpack_restart(nlocal, nth);
-  rowtag[nlocal] = atom->tag[nlocal];
-  if (nlocal >= nrows) nrows = nlocal + 1;
   k_state.modify_host();
-  k_rowtag.modify_host();
 }
 
 template <class DeviceType>

@@ -349,13 +349,14 @@ double FixSPHJCThermal::stable_dt()
     const int it = type[i];
     dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i], cfl));
   }
-  // stiff parts owned by the attached styles: the contact spring, conduction (with its sub-cycling)
-  for (auto *st : timed) dtloc = std::min(dtloc, st->dt_limit(cfl, thermal_cfl));
   return finish_dt(dtloc);
 }
 
+// this rank's mechanical limit -> the step: the stiff parts owned by the attached styles (the
+// contact spring, conduction with its sub-cycling), the minimum over the ranks, dtmin/dtmax
 double FixSPHJCThermal::finish_dt(double dtloc)
 {
+  for (auto *st : timed) dtloc = std::min(dtloc, st->dt_limit(cfl, thermal_cfl));
   double dtnew;
   MPI_Allreduce(&dtloc, &dtnew, 1, MPI_DOUBLE, MPI_MIN, world);
   if (dtmax > 0.0) dtnew = std::min(dtnew, dtmax);
