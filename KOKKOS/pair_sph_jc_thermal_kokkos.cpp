@@ -320,17 +320,15 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 // per particle after the half-list sums: the rates
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(int nlocal)
 {
-  auto mask = atomKK->k_mask.view<DeviceType>();
   auto type = atomKK->k_type.view<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
+  auto pk = d_pack;
   auto accv = k_acc.template view<DeviceType>();
   auto mt = d_mat;
-  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, corr = correction;
-  const int dim = domain->dimension;
-  using SL = StateLayout;
+  const int corr = correction, dim = domain->dimension;
   Kokkos::parallel_for(
       Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
-        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) return;
+        if (pk(i, PK_M) == 0.0) return;    // not in the SPH solid (stress pass)
         store_rates(mt(type(i)), dim, corr, &accv(i, 0), st, i);
       });
 }
