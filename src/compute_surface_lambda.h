@@ -36,7 +36,7 @@ class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
   double threshold;
   std::string timing_name() const override { return std::string("compute surface/lambda ") + id; }
 
- private:
+ protected:
   int every;                  // recompute every this many steps (and after reneighboring)
   int tool_hides;             // 1: tool particles count as neighbours of the workpiece
   bigint last_step, last_neigh;

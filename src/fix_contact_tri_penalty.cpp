@@ -52,7 +52,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     mustyle(MU_CONST), mu0(0.0), mu_ivar(-1), mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
     toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
     work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
-    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), vcont(nullptr), qbuf(nullptr), nmax_buf(0),
+    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), nmax_out(0), qbuf(nullptr), nmax_buf(0),
     list(nullptr), fix(nullptr), pair(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
@@ -315,23 +315,14 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   nevery = 1;
   dynamic_group_allow = 0;
 
-  restart_peratom = 1;
-  grow_arrays(atom->nmax);
-  atom->add_callback(Atom::GROW);
-  atom->add_callback(Atom::RESTART);
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int k = 0; k < 4; k++) {
-      if (k < 3) fcontact[i][k] = 0.0;
-      vcont[i][k] = 0.0;
-    }
+  // the per-atom data that must follow the atoms (last contact force, the velocity it used)
+  // lives in fix sph/jc-thermal's state (columns FCONT, VCONT); fcontact is the output copy
+  grow_output();
 }
 
 FixContactTriPenalty::~FixContactTriPenalty()
 {
-  atom->delete_callback(id, Atom::GROW);
-  atom->delete_callback(id, Atom::RESTART);
   memory->destroy(fcontact);
-  memory->destroy(vcont);
   memory->destroy(qbuf);
 }
 
@@ -403,15 +394,15 @@ void FixContactTriPenalty::init()
   dt_crit = 1.0e300;
   {
     const sphcut::TriBinView view = bins.view();
-    if (cand.empty()) cand.resize(64);
     for (int i = 0; i < atom->nlocal; i++) {
       if (!(atom->mask[i] & groupbit) || (atom->mask[i] & toolbit) || fix->role_of(atom->mask[i]) == FixSPHJCThermal::TOOL) continue;
       const int it = atom->type[i];
       const double h = pair->smoothing_length(it);
       const double *xi = atom->x[i];
       const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
-      // any facet within 2h (the count is complete even when the buffer is too small)
-      if (sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size()) == 0) continue;
+      double q[3];
+      int reg;
+      if (sphcut::tri_bin_nearest(view, xt, 2.0 * h, q, reg) < 0) continue;    // no facet within 2h
       dt_crit = std::min(dt_crit, spring_dt_crit(i));
     }
   }
@@ -441,13 +432,18 @@ void FixContactTriPenalty::init_list(int, NeighList *ptr)
    tool velocity for the coming step; rigid tool particles get it too
 ------------------------------------------------------------------------- */
 
-void FixContactTriPenalty::update_tool_velocity()
+void FixContactTriPenalty::compute_tool_velocity()
 {
   for (int k = 0; k < 3; k++) {
     if (vvar[k].empty()) vtool[k] = vconst[k];
     else vtool[k] = input->variable->compute_equal(input->variable->find(vvar[k].c_str()));
   }
   if (domain->dimension == 2) vtool[2] = 0.0;
+}
+
+void FixContactTriPenalty::update_tool_velocity()
+{
+  compute_tool_velocity();
   if (!toolbit) return;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->mask[i] & toolbit)
@@ -457,10 +453,22 @@ void FixContactTriPenalty::update_tool_velocity()
 void FixContactTriPenalty::setup(int vflag)
 {
   update_tool_velocity();
-  if (!inside_checked) warn_inside();
+  if (!inside_checked) {
+    warn_inside();
+    // a fix defined anew (not read from a restart) starts without a contact history, whatever
+    // an earlier contact fix left in the state
+    if (!restored) clear_history();
+  }
   inside_checked = 1;
   post_force(vflag);
   if (write_every) write_geometry();
+}
+
+void FixContactTriPenalty::clear_history()
+{
+  using F = FixSPHJCThermal;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = F::FCONT; k < F::VCONT + 4; k++) fix->state[i][k] = 0.0;
 }
 
 /* ----------------------------------------------------------------------
@@ -502,14 +510,7 @@ void FixContactTriPenalty::initial_integrate(int)
 double FixContactTriPenalty::friction_coefficient(double temp)
 {
   if (mustyle == MU_CONST) return mu0;
-  if (mustyle == MU_TABLE) {
-    if (temp <= mu_t.front()) return mu_v.front();
-    if (temp >= mu_t.back()) return mu_v.back();
-    size_t k = 1;
-    while (mu_t[k] < temp) k++;
-    const double s = (temp - mu_t[k - 1]) / (mu_t[k] - mu_t[k - 1]);
-    return mu_v[k - 1] + s * (mu_v[k] - mu_v[k - 1]);
-  }
+  if (mustyle == MU_TABLE) return sphcut::mu_table(mu_t.data(), mu_v.data(), (int) mu_t.size(), temp);
   input->variable->internal_set(mu_itvar, temp);
   const double m = input->variable->compute_equal(mu_ivar);
   return m > 0.0 ? m : 0.0;
@@ -557,68 +558,43 @@ void FixContactTriPenalty::post_force(int)
   double w_old = 0.0, d_old = 0.0;
   for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < dim; k++) {
-      w_old += fcontact[i][k] * vtool[k];
-      d_old += fcontact[i][k] * (vtool[k] - atom->v[i][k]);
+      w_old += st[i][F::FCONT + k] * vtool[k];
+      d_old += st[i][F::FCONT + k] * (vtool[k] - atom->v[i][k]);
     }
 
   for (int i = 0; i < nlocal; i++) {
-    fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+    double *fc = &st[i][F::FCONT], *vc = &st[i][F::VCONT];
+    fc[0] = fc[1] = fc[2] = 0.0;
     if (!update->setupflag) {
-      for (int k = 0; k < 3; k++) vcont[i][k] = atom->v[i][k];
-      vcont[i][3] = 1.0;
+      for (int k = 0; k < 3; k++) vc[k] = atom->v[i][k];
+      vc[3] = 1.0;
     }
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const int it = type[i];
     const double h = pair->smoothing_length(it);
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
-    // search 2h: particles that went deeper than the contact radius still find the surface
-    // every facet within 2h: the buffer grows to the count of an overflowed query (an upper
-    // bound, so the repeated query fits); a fine mesh has hundreds there
-    if (cand.empty()) cand.resize(64);
-    int nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
-    if (nc > (int) cand.size()) {
-      cand.resize(nc);
-      nc = sphcut::tri_bin_query(view, xt, 2.0 * h, cand.data(), (int) cand.size());
-    }
-    if (nc == 0) continue;
+    sphcut::ContactIn in;
+    double qs[3];
+    if (!sphcut::tool_surface(view, xt, h, in.d, in.n, qs)) continue;
     const double mi = rmass ? rmass[i] : mass[it];
     const double dpi = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
-    int best = -1, bestreg = 0;
-    double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
-    for (int c = 0; c < nc; c++) {
-      double q[3];
-      int reg;
-      const double d2 = sphcut::tri_bin_closest(view, cand[c], xt, q, reg);
-      if (d2 < bestd2 * (1.0 - 1.0e-12) || (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == sphcut::FACE && bestreg != sphcut::FACE)) {
-        best = cand[c];
-        bestd2 = d2;
-        bestreg = reg;
-        for (int k = 0; k < 3; k++) bestq[k] = q[k];
-      }
-    }
-    sphcut::ContactIn in;
-    const double *e = &elem[(size_t) best * (nvert == 3 ? 9 : 6)];
-    in.d = nvert == 3 ? sphcut::contact_normal(xt, e, e + 3, e + 6, bestq, bestreg, 0, in.n)
-                      : sphcut::contact_normal_segment(xt, e, e + 3, bestq, bestreg, 0, in.n);
-    // the spring's time step limit for particles in contact or about to be: within 10 steps at
-    // their speed relative to the tool (the next step may be ~3x longer) plus h/100
     {
       double vr2 = 0.0;
       for (int k = 0; k < dim; k++) vr2 += (atom->v[i][k] - vtool[k]) * (atom->v[i][k] - vtool[k]);
-      if (in.d < 0.5 * h / sfac + 10.0 * sqrt(vr2) * dt + 0.01 * h) dt_crit = std::min(dt_crit, spring_dt_crit(i));
+      if (sphcut::near_contact(in.d, h, sfac, sqrt(vr2), dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
     }
     if (0.5 * h / sfac - in.d <= 0.0) continue;
     // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
     // run (restart, or a second run with unchanged velocities) the one of the last step
     const double *vuse = atom->v[i];
-    if (update->setupflag && vcont[i][3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
+    if (update->setupflag && vc[3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
         atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2])
-      vuse = vcont[i];
+      vuse = vc;
     for (int k = 0; k < 3; k++) {
       in.x[k] = x[i][k];
       in.v[k] = vuse[k];
       in.vtool[k] = vtool[k];
-      in.q[k] = bestq[k] + disp[k];
+      in.q[k] = qs[k] + disp[k];
     }
     in.mass = mi;
     in.h = h;
@@ -647,7 +623,7 @@ void FixContactTriPenalty::post_force(int)
     for (int k = 0; k < 3; k++) st[i][F::XSPH + k] = 0.0;
     for (int k = 0; k < dim; k++) {
       f[i][k] += out.f[k];
-      fcontact[i][k] = out.f[k];
+      fc[k] = out.f[k];
       ftool[k] -= out.f[k];
       work_rate += out.f[k] * vtool[k];
       // friction + dashpot (+ spring) power
@@ -719,6 +695,31 @@ void FixContactTriPenalty::post_force(int)
     tool_work += 0.5 * dt * (w_old + work_rate);
     contact_diss += 0.5 * dt * (d_old + diss_rate);
   }
+  copy_output();
+}
+
+/* ----------------------------------------------------------------------
+   per-atom output (f_ID[1..3]): the contact force of this step, copied from the state after
+   the contact (valid until the next reneighbouring, i.e. at every output of the step)
+------------------------------------------------------------------------- */
+
+void FixContactTriPenalty::grow_output()
+{
+  if (atom->nmax <= nmax_out) return;
+  nmax_out = atom->nmax;
+  memory->destroy(fcontact);
+  memory->create(fcontact, nmax_out, 3, "contact:fcontact");
+  for (int i = 0; i < nmax_out; i++) fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+  array_atom = fcontact;
+}
+
+void FixContactTriPenalty::copy_output()
+{
+  using F = FixSPHJCThermal;
+  grow_output();
+  double **st = fix->state;
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 3; k++) fcontact[i][k] = st[i][F::FCONT + k];
 }
 
 /* ---------------------------------------------------------------------- */
@@ -784,59 +785,6 @@ double FixContactTriPenalty::compute_vector(int n)
 
 /* ---------------------------------------------------------------------- */
 
-void FixContactTriPenalty::grow_arrays(int nmax)
-{
-  memory->grow(fcontact, nmax, 3, "contact:fcontact");
-  memory->grow(vcont, nmax, 4, "contact:vcont");
-  array_atom = fcontact;
-}
-
-void FixContactTriPenalty::copy_arrays(int i, int j, int)
-{
-  for (int k = 0; k < 3; k++) fcontact[j][k] = fcontact[i][k];
-  for (int k = 0; k < 4; k++) vcont[j][k] = vcont[i][k];
-}
-
-// per atom: contact force of the last step (3) and the velocity it used (3 + valid flag)
-int FixContactTriPenalty::pack_exchange(int i, double *buf)
-{
-  for (int k = 0; k < 3; k++) buf[k] = fcontact[i][k];
-  for (int k = 0; k < 4; k++) buf[3 + k] = vcont[i][k];
-  return 7;
-}
-
-int FixContactTriPenalty::unpack_exchange(int nlocal, double *buf)
-{
-  for (int k = 0; k < 3; k++) fcontact[nlocal][k] = buf[k];
-  for (int k = 0; k < 4; k++) vcont[nlocal][k] = buf[3 + k];
-  return 7;
-}
-
-int FixContactTriPenalty::pack_restart(int i, double *buf)
-{
-  buf[0] = 8;
-  pack_exchange(i, &buf[1]);
-  return 8;
-}
-
-void FixContactTriPenalty::unpack_restart(int nlocal, int nth)
-{
-  double **extra = atom->extra;
-  int m = 0;
-  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  unpack_exchange(nlocal, &extra[nlocal][m + 1]);
-}
-
-int FixContactTriPenalty::size_restart(int)
-{
-  return 8;
-}
-
-int FixContactTriPenalty::maxsize_restart()
-{
-  return 8;
-}
-
 int FixContactTriPenalty::pack_reverse_comm(int n, int first, double *buf)
 {
   for (int i = 0; i < n; i++) buf[i] = qbuf[first + i];
@@ -862,6 +810,7 @@ void FixContactTriPenalty::write_restart(FILE *fp)
 
 void FixContactTriPenalty::restart(char *buf)
 {
+  restored = 1;
   const double *list = (const double *) buf;
   for (int k = 0; k < 3; k++) disp[k] = list[k];
   tool_temp = list[3];
@@ -876,5 +825,5 @@ void FixContactTriPenalty::restart(char *buf)
 
 double FixContactTriPenalty::memory_usage()
 {
-  return (double) atom->nmax * 7 * sizeof(double) + elem.size() * sizeof(double);
+  return (double) nmax_out * 3 * sizeof(double) + elem.size() * sizeof(double);
 }

@@ -39,14 +39,6 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   void post_force(int) override;
   void end_of_step() override;
   double compute_vector(int) override;
-  void grow_arrays(int) override;
-  void copy_arrays(int, int, int) override;
-  int pack_exchange(int, double *) override;
-  int unpack_exchange(int, double *) override;
-  int pack_restart(int, double *) override;
-  void unpack_restart(int, int) override;
-  int size_restart(int) override;
-  int maxsize_restart() override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
   void write_restart(FILE *) override;
@@ -61,7 +53,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   // minimum over the ranks): dtfac cfl times the stability limit of the particles in or about to be in contact
   double dt_limit(double cfl, double) const override { return dt_crit < 1.0e300 ? dtfac * cfl * dt_crit : 1.0e300; }
 
- private:
+ protected:
   // geometry, in the tool frame; the tool translates by disp
   std::vector<double> elem;
   int nvert;                      // 3 triangles, 2 segments (2D)
@@ -100,8 +92,10 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double dt_last;                 // time step of the last contact evaluation
   double dtfac = 0.15;            // fraction (times cfl) of the spring's stability limit
   double dt_crit;                 // min stability limit of the spring, particles in or near contact (this rank)
-  double **fcontact;              // per-atom contact force (of the last step)
-  double **vcont;                 // per-atom velocity the contact used last step, valid flag
+  double **fcontact;              // per-atom output: contact force of this step (copy of the state's FCONT)
+  int nmax_out;
+  void grow_output();
+  void copy_output();
   double *qbuf;                   // tool heat to reverse communicate
   int nmax_buf;
   class NeighList *list;
@@ -110,13 +104,15 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
 
   void load_geometry(const std::string &kind, const std::vector<std::string> &args);
   double friction_coefficient(double temp);
-  void update_tool_velocity();
+  void compute_tool_velocity();    // vtool from the constants / variables
+  void update_tool_velocity();     // and the rigid tool particles' velocity (host)
   void write_geometry();
   double contact_radius_max() const;
-  std::vector<int> cand;          // candidate elements of one particle (grows, never truncated)
   std::vector<double> heat_w;     // tool particles near one contact and their kernel weights
   std::vector<int> heat_j;
   int inside_checked = 0;         // particles inside the tool looked for (first setup)
+  int restored = 0;               // global state read from a restart file
+  void clear_history();
   void warn_inside();
   double spring_dt_crit(int i) const;
 };

@@ -44,7 +44,7 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 using sphcut::Material;
 
-static constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
+using sphcut::STEFAN_BOLTZMANN_SI;
 // largest thermal Courant number of a stable update (fix sph/jc-thermal thermal_cfl <= this;
 // measured stability limit 0.15-0.17 with hdx 1.5, cubic kernel)
 static constexpr double THERMAL_CFL_MAX = 0.15;
@@ -55,7 +55,7 @@ static constexpr double THERMAL_CFL_MAX = 0.15;
 ------------------------------------------------------------------------- */
 
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), scheme(FMFS), every(1), conservative(1), fwts(nullptr), nmax_fwts(0), held(nullptr), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
+    Fix(lmp, narg, arg), scheme(FMFS), every(1), conservative(1), fwts(nullptr), nmax_fwts(0), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
     emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
     n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
 {
@@ -131,17 +131,13 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
   extlist = new int[6]{1, 1, 1, 1, 1, 0};
   restart_global = 1;
   comm_forward = 1 + 3 * 3 + 3;
-  grow_arrays(atom->nmax);
-  atom->add_callback(Atom::GROW);
-  for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
+  // the rate held between evaluations lives in fix sph/jc-thermal's state (column HELD)
 }
 
 FixHeatFMFS::~FixHeatFMFS()
 {
   delete[] id_surface;
   delete[] extlist;
-  atom->delete_callback(id, Atom::GROW);
-  memory->destroy(held);
   memory->destroy(fwts);
 }
 
@@ -212,17 +208,21 @@ double FixHeatFMFS::dt_limit(double, double F) const
   return dt;
 }
 
-void FixHeatFMFS::setup(int vflag)
+// refuse a time step the (sub-cycled) temperature update cannot integrate stably; the
+// adaptive dt of fix sph/jc-thermal (defined before this fix, so set by now) stays below
+void FixHeatFMFS::check_timestep()
 {
-  // refuse a time step the (sub-cycled) temperature update cannot integrate stably; the
-  // adaptive dt of fix sph/jc-thermal (defined before this fix, so set by now) stays below
   double lim = 1.0e300, dtlim = dt_limit(0.0, THERMAL_CFL_MAX);
   MPI_Allreduce(&dtlim, &lim, 1, MPI_DOUBLE, MPI_MIN, world);
   if (update->dt > lim * (1.0 + 1.0e-12))
     error->all(FLERR, "Fix heat/fmfs: timestep {} with every {} exceeds the stable limit {} "
                "(0.15 rho cp h^2/k 2/(every+1)): reduce timestep or every, or use fix sph/jc-thermal cfl",
                update->dt, every, lim);
+}
 
+void FixHeatFMFS::setup(int vflag)
+{
+  check_timestep();
   // Dirichlet particles start at their temperature
   using F = FixSPHJCThermal;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -259,7 +259,7 @@ void FixHeatFMFS::post_force(int)
   }
   double **st = fix->state;
   for (int i = 0; i < atom->nlocal; i++)
-    if (atom->mask[i] & groupbit) st[i][FixSPHJCThermal::DTEMP] += held[i];
+    if (atom->mask[i] & groupbit) st[i][FixSPHJCThermal::DTEMP] += st[i][FixSPHJCThermal::HELD];
   // losses over the step with the trapezoidal weights of the temperature update
   if (!update->setupflag) {
     q_conv += 0.5 * update->dt * (p_conv_prev + held_conv);
@@ -281,7 +281,7 @@ template <int DIM> void FixHeatFMFS::conduction()
   const int kernel = pair->kernel();
   using F = FixSPHJCThermal;
   double p_conv = 0.0, p_rad = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) st[i][F::HELD] = 0.0;
   sphcut::FmfsAccum<DIM> acc;
 
   for (int ii = 0; ii < list->inum; ii++) {
@@ -345,7 +345,7 @@ template <int DIM> void FixHeatFMFS::conduction()
       p_rad += qr;
       dT -= (qc + qr) / (massi * mi.cp);
     }
-    held[i] = dT;
+    st[i][F::HELD] = dT;
   }
   held_conv = p_conv;
   held_rad = p_rad;
@@ -425,7 +425,7 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   sphcut::forward_comm(comm, this);
 
   double p_conv = 0.0, p_rad = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) held[i] = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) st[i][F::HELD] = 0.0;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
@@ -466,7 +466,7 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
       p_rad += qr;
       dT -= (qc + qr) / (massi * mi.cp);
     }
-    held[i] = dT;
+    st[i][F::HELD] = dT;
   }
   held_conv = p_conv;
   held_rad = p_rad;
@@ -489,31 +489,9 @@ void FixHeatFMFS::unpack_forward_comm(int n, int first, double *buf)
 
 /* ---------------------------------------------------------------------- */
 
-void FixHeatFMFS::grow_arrays(int nmax)
-{
-  memory->grow(held, nmax, "heat/fmfs:held");
-}
-
-void FixHeatFMFS::copy_arrays(int i, int j, int)
-{
-  held[j] = held[i];
-}
-
-int FixHeatFMFS::pack_exchange(int i, double *buf)
-{
-  buf[0] = held[i];
-  return 1;
-}
-
-int FixHeatFMFS::unpack_exchange(int nlocal, double *buf)
-{
-  held[nlocal] = buf[0];
-  return 1;
-}
-
 double FixHeatFMFS::memory_usage()
 {
-  return (double) atom->nmax * sizeof(double);
+  return (double) nmax_fwts * (1 + 3 * 3 + 3) * sizeof(double);
 }
 
 /* ----------------------------------------------------------------------

@@ -40,10 +40,6 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   void final_integrate() override;
   double compute_vector(int) override;
   void write_restart(FILE *) override;
-  void grow_arrays(int) override;
-  void copy_arrays(int, int, int) override;
-  int pack_exchange(int, double *) override;
-  int unpack_exchange(int, double *) override;
   double memory_usage() override;
   void restart(char *) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -52,20 +48,21 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   // entry point for heat sources (fix contact/tri-penalty: friction heat):
   // add `power` (energy/time) to local atom i during post_force of this step
   void add_heat(int i, double power);
+  // heat (energy) that a device path added to the particles itself, booked into element 4
+  void book_sources(double energy) { q_sources += energy; }
   // cpu_time: wall time on this rank, without the surface compute
   std::string timing_name() const override { return std::string("fix heat/fmfs ") + id; }
   // thermal time step limit on this rank for thermal Courant number F, with the
   // sub-cycling interval (fix sph/jc-thermal stable_dt takes the minimum over ranks)
   double dt_limit(double, double F) const override;
 
- private:
+ protected:
   enum { FMFS, BROOKSHAW };
   int scheme;
   int every;                    // conduction and losses evaluated every this many steps
   int conservative;             // 1: pairwise exchange with the mean FMFS/Brookshaw weight (default)
   double **fwts;                // per atom (local + ghost): scheme flag (1 FMFS) and FMFS weights
   int nmax_fwts;
-  double *held;                 // per atom: their temperature rate, applied between evaluations
   double held_conv, held_rad;   // loss rates of the last evaluation
   double fmfs_lambda;           // FMFS only where lambda (own support) >= this
   char *id_surface;
@@ -85,6 +82,7 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   FixSPHJCThermal *fix;
   PairSPHJCThermal *pair;
   int dirichlet_of(int mask) const;
+  void check_timestep();
   template <int DIM> void conduction();
   template <int DIM> void conduction_conservative();
   template <int DIM> int fmfs_choice(int i, double *wts);

@@ -90,6 +90,9 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       // the Heun predictor-corrector of the temperature is stable to about 0.15-0.17 (measured)
       if (thermal_cfl <= 0.0 || thermal_cfl > 0.15)
         error->all(FLERR, "Fix sph/jc-thermal: thermal_cfl must be in (0,0.15], got {}", thermal_cfl);
+    } else if (kw == "peratom_every") {
+      peratom_every = utils::inumeric(FLERR, val, false, lmp);
+      if (peratom_every < 1) error->all(FLERR, "Fix sph/jc-thermal: peratom_every must be >= 1, got {}", peratom_every);
     } else {
       error->all(FLERR, "Fix sph/jc-thermal: unknown keyword {}", kw);
     }
@@ -114,7 +117,9 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   peratom_flag = 1;
   // all columns: LAMMPS variables index per-atom arrays with this stride (columns past NOUT are internal)
   size_peratom_cols = NCOL;
-  peratom_freq = 1;
+  // the per-atom array is valid every step on the CPU; peratom_every declares a coarser interval
+  // (the /kk fix copies the state to the host only then, and LAMMPS refuses consumers at other steps)
+  peratom_freq = peratom_every > 0 ? peratom_every : 1;
   restart_global = 1;
   restart_peratom = 1;
   comm_forward = NFORWARD;

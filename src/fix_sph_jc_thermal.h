@@ -77,6 +77,7 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::A
   std::string temp_var;       // or an atom-style variable giving it
   int force_state_valid;      // force-state columns hold the last predictor (continued run)
   double cfl;                 // > 0: adaptive time step with this Courant number
+  int peratom_every = 0;      // > 0: the per-atom array is valid every this many steps (keyword)
   double dtmax, dtmin;
   double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
   double plastic_work;        // accumulated plastic work (energy units), this rank

@@ -526,6 +526,98 @@ SPHCUT_INLINE int tri_bin_query(const TriBinView &g, const double *x, double rad
   return count;
 }
 
+
+/* ----------------------------------------------------------------------
+   the nearest element to x (tool frame) among those within distance
+   radius: its id (-1: none), closest point q and feature region.  Ties
+   (within 1e-12 relative) go to a face over an edge or vertex, so the
+   normal of a particle over a face interior is the face normal.  One
+   closest-point evaluation per element and bin, no candidate buffer
+   (the device path cannot grow one); an element listed in several bins
+   is evaluated again there, which cannot change the choice.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double radius, double *q,
+                                  int &region)
+{
+  region = 0;
+  if (g.nelem <= 0 || g.n[0] <= 0) return -1;
+  const int nd = g.nvert == 3 ? 3 : 2;
+  const double pad = 1.0e-9 * g.size;
+  int ilo[3] = {0, 0, 0}, ihi[3] = {0, 0, 0};
+  for (int k = 0; k < nd; k++) {
+    const double flo = floor((x[k] - radius - pad - g.lo[k]) / g.size);
+    const double fhi = floor((x[k] + radius + pad - g.lo[k]) / g.size);
+    if (fhi < 0.0 || flo > g.n[k] - 1.0) return -1;
+    ilo[k] = flo < 0.0 ? 0 : (int) flo;
+    ihi[k] = fhi > g.n[k] - 1.0 ? g.n[k] - 1 : (int) fhi;
+  }
+  const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
+  const double r2 = radius * radius;
+  int best = -1;
+  double bestd2 = 1.0e300;
+  for (int iz = ilo[2]; iz <= ihi[2]; iz++)
+    for (int iy = ilo[1]; iy <= ihi[1]; iy++)
+      for (int ix = ilo[0]; ix <= ihi[0]; ix++) {
+        const int bin = (iz * g.n[1] + iy) * g.n[0] + ix;
+        for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
+          const int e = g.index[m];
+          const double *s = g.sphere + 4 * e;
+          const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
+          if (dc2 > sq(radius + s[3])) continue;
+          double qe[3];
+          int reg;
+          const double d2 = tri_bin_closest(g, e, xx, qe, reg);
+          if (d2 > r2) continue;
+          if (d2 < bestd2 * (1.0 - 1.0e-12) ||
+              (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == FACE && region != FACE)) {
+            best = e;
+            bestd2 = d2;
+            region = reg;
+            for (int k = 0; k < 3; k++) q[k] = qe[k];
+          }
+        }
+      }
+  return best;
+}
+
+/* ----------------------------------------------------------------------
+   the tool surface seen by a particle at xt (tool frame): nearest element
+   within 2h (particles deeper than the contact radius still find the
+   surface), signed distance d (< 0 inside), outward unit normal n, point q
+   (tool frame).  False when no element lies within 2h.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE bool tool_surface(const TriBinView &g, const double *xt, double h, double &d, double *n,
+                                double *q)
+{
+  int reg;
+  const int e = tri_bin_nearest(g, xt, 2.0 * h, q, reg);
+  if (e < 0) return false;
+  const double *v = g.elem + (g.nvert == 3 ? 9 : 6) * e;
+  d = g.nvert == 3 ? contact_normal(xt, v, v + 3, v + 6, q, reg, 0, n)
+                   : contact_normal_segment(xt, v, v + 3, q, reg, 0, n);
+  return true;
+}
+
+/* the penalty spring limits the time step of a particle in contact or about to be: within 10
+   steps at its speed vrel relative to the tool (the next step may be ~3x longer) plus h/100 */
+SPHCUT_INLINE bool near_contact(double d, double h, double sfac, double vrel, double dt)
+{
+  return d < 0.5 * h / sfac + 10.0 * vrel * dt + 0.01 * h;
+}
+
+/* friction coefficient from a table mu(T) (n points, T ascending), clamped at the ends */
+SPHCUT_INLINE double mu_table(const double *t, const double *mu, int n, double temp)
+{
+  if (temp <= t[0]) return mu[0];
+  if (temp >= t[n - 1]) return mu[n - 1];
+  int k = 1;
+  while (t[k] < temp) k++;
+  const double s = (temp - t[k - 1]) / (t[k] - t[k - 1]);
+  return mu[k - 1] + s * (mu[k] - mu[k - 1]);
+}
+
 }    // namespace sphcut
 
 #endif
