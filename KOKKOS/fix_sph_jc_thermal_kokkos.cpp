@@ -157,17 +157,22 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   FixSPHJCThermal::init();
   if (!pair->kokkosable)
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
-  // the other sphcut styles read and write the state on the host: not yet on the device
+  // the other sphcut styles read and write the state: under /kk only their /kk variants do that
+  // on the device (a CPU variant would read a stale host copy)
   for (int i = 0; i < modify->nfix; i++) {
     const std::string st = modify->fix[i]->style;
-    if (utils::strmatch(st, "^heat/fmfs") || utils::strmatch(st, "^contact/tri-penalty"))
-      error->all(FLERR, "Fix sph/jc-thermal/kk: fix {} has no /kk variant yet; run this scene with "
-                 "the CPU styles (without -sf kk)", st);
+    if ((utils::strmatch(st, "^heat/fmfs") || utils::strmatch(st, "^contact/tri-penalty")) &&
+        !modify->fix[i]->kokkosable)
+      error->all(FLERR, "Fix sph/jc-thermal/kk: fix {} {} is the CPU style; use its /kk variant "
+                 "(-sf kk, or the style name with /kk)", modify->fix[i]->id, st);
   }
   for (int i = 0; i < modify->ncompute; i++)
-    if (utils::strmatch(modify->compute[i]->style, "^surface/lambda"))
-      error->all(FLERR, "Fix sph/jc-thermal/kk: compute {} has no /kk variant yet; run this scene "
-                 "with the CPU styles (without -sf kk)", modify->compute[i]->style);
+    if (utils::strmatch(modify->compute[i]->style, "^surface/lambda") && !modify->compute[i]->kokkosable)
+      error->all(FLERR, "Fix sph/jc-thermal/kk: compute {} {} is the CPU style; use its /kk variant "
+                 "(-sf kk, or the style name with /kk)", modify->compute[i]->id, modify->compute[i]->style);
+  // the state comes to the host every peratom_every steps (default: the thermo interval) and on
+  // output steps; LAMMPS refuses consumers of f_ID per-atom values at other steps
+  peratom_freq = peratom_every > 0 ? peratom_every : (output->thermo_every > 0 ? output->thermo_every : 1);
   atomKK->k_mass.modify<LMPHostType>();
   atomKK->k_mass.sync<DeviceType>();
   upload_tables();
@@ -385,8 +390,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
 {
   sphcut::FencedTimer timer(cpu_time);
   if (cfl > 0.0) apply_dt(finish_dt(dt_next));
-  // dumps and f_ID outputs read the host array on output steps
-  if (update->ntimestep == output->next) k_state.sync_host();
+  // dumps and f_ID outputs read the host array on output steps and every peratom_freq steps
+  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_state.sync_host();
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()

@@ -10,6 +10,8 @@
 #include "kokkos_type.h"
 #include "lammps.h"
 #include "error.h"
+#include "neigh_request.h"
+#include "neighbor.h"
 
 #include <mpi.h>
 #include <string>
@@ -53,6 +55,18 @@ inline LAMMPS_NS::LAMMPS *require_kokkos(LAMMPS_NS::LAMMPS *lmp, const std::stri
     lmp->error->all(FLERR, "{} needs the KOKKOS package enabled: run with -k on ... -sf kk "
                     "(or use the style without /kk)", who);
   return lmp;
+}
+
+// mark the neighbour request a style just made (sphcut::request_full_list) as a full Kokkos list
+// on DeviceType, so that the list is built on the device
+template <class DeviceType> void kokkos_full_list(LAMMPS_NS::Neighbor *neighbor)
+{
+  LAMMPS_NS::NeighRequest *rq = neighbor->requests[neighbor->nrequest - 1];
+  rq->kokkos_host = std::is_same<DeviceType, ::LMPHostType>::value &&
+      !std::is_same<DeviceType, ::LMPDeviceType>::value;
+  rq->kokkos_device = std::is_same<DeviceType, ::LMPDeviceType>::value;
+  rq->full = 1;
+  rq->half = 0;
 }
 
 }    // namespace sphcut

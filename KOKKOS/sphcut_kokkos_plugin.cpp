@@ -10,6 +10,9 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "compute_surface_lambda_kokkos.h"
+#include "fix_contact_tri_penalty_kokkos.h"
+#include "fix_heat_fmfs_kokkos.h"
 #include "fix_sph_jc_thermal_kokkos.h"
 #include "pair_sph_jc_thermal_kokkos.h"
 
@@ -22,6 +25,7 @@ namespace {
 
 template <class T> Pair *pair_creator(LAMMPS *lmp) { return new T(lmp); }
 template <class T> Fix *fix_creator(LAMMPS *lmp, int argc, char **argv) { return new T(lmp, argc, argv); }
+template <class T> Compute *compute_creator(LAMMPS *lmp, int argc, char **argv) { return new T(lmp, argc, argv); }
 
 // LAMMPS keeps the name pointer (plugin list, unload): the names live as long as the library
 const char *keep(const std::string &name)
@@ -66,4 +70,16 @@ void sphcut_register_kokkos(lammpsplugin_regfunc reg, void *lmp, void *handle)
          "sphcut " SPHCUT_VERSION ": SPH solid state and time integration on the Kokkos device",
          (void *) &fix_creator<FixSPHJCThermalKokkos<LMPDeviceType>>,
          (void *) &fix_creator<FixSPHJCThermalKokkos<LMPHostType>>);
+  add_kk(reg, lmp, handle, "fix", "heat/fmfs",
+         "sphcut " SPHCUT_VERSION ": FMFS/Brookshaw heat conduction on the Kokkos device",
+         (void *) &fix_creator<FixHeatFMFSKokkos<LMPDeviceType>>,
+         (void *) &fix_creator<FixHeatFMFSKokkos<LMPHostType>>);
+  add_kk(reg, lmp, handle, "fix", "contact/tri-penalty",
+         "sphcut " SPHCUT_VERSION ": penalty contact with a triangulated tool on the Kokkos device",
+         (void *) &fix_creator<FixContactTriPenaltyKokkos<LMPDeviceType>>,
+         (void *) &fix_creator<FixContactTriPenaltyKokkos<LMPHostType>>);
+  add_kk(reg, lmp, handle, "compute", "surface/lambda",
+         "sphcut " SPHCUT_VERSION ": free-surface indicator on the Kokkos device",
+         (void *) &compute_creator<ComputeSurfaceLambdaKokkos<LMPDeviceType>>,
+         (void *) &compute_creator<ComputeSurfaceLambdaKokkos<LMPHostType>>);
 }

@@ -5,6 +5,7 @@
 // and the clear errors.  Run on 1 and 2 MPI ranks (ctest: test_kokkos, test_kokkos_np2).
 #include "sphcut_collision.h"
 
+#include "input.h"
 #include "update.h"
 
 #include <fstream>
@@ -232,10 +233,136 @@ TEST(Kokkos, ClearErrors)
                 l.error_contains("run 0", "requires pair_style sph/jc-thermal/kk"));
   }
   {
-    // the thermal and contact styles have no /kk variant yet: refused, not silently wrong
+    // a CPU thermal style beside the /kk mechanics would read a stale host state: refused
     Lammps l(MPI_COMM_WORLD, KK_FULL);
     l.cmds(collision("off"));
+    l.cmd("fix heat all heat/fmfs/kk");
+    l.cmd("unfix heat");
+    l.cmd("suffix off");
     l.cmd("fix heat all heat/fmfs");
-    EXPECT_TRUE(l.error_contains("run 0", "has no /kk variant yet"));
+    EXPECT_TRUE(l.error_contains("run 0", "is the CPU style; use its /kk variant"));
+  }
+  {
+    // mu from a LAMMPS variable cannot be evaluated in a kernel
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds(collision("off"));
+    l.cmds({"variable T internal 300", "variable mu equal 0.3"});
+    EXPECT_TRUE(l.error_contains("fix c all contact/tri-penalty insert rake 0 clearance 7 radius 0 rake_length 1e-3 "
+                                 "flank_length 1e-3 mu v_mu tvar T",
+                                 "cannot be evaluated on the device"));
+  }
+  {
+    // per-atom values of the /kk fix between the steps it copies them to the host: LAMMPS refuses
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds(collision("off"));
+    l.cmds({"thermo 50", "compute t all reduce max f_sph[12]", "fix p all print 7 \"$(c_t)\" screen no"});
+    EXPECT_TRUE(l.error_contains("run 20", "not computed at compatible time"));
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the thermal, surface and contact styles under /kk against the CPU styles, in the scenes of the
+   examples: the 2D Ti6Al4V cut (11 across; the tool is in contact for the last ~1300 of 9000
+   steps: penalty, friction with the stick limit, friction heat split between the workpiece and
+   the tool particles, FMFS/Brookshaw conduction sub-cycled every 10 steps, surface losses,
+   Dirichlet clamp) and the 3D cut with free sides (6 across, 3 layers; the triangulated
+   insert; contact for the last ~1100 of 2500 steps).  Per-atom state by atom ID and the fixes'
+   global vectors (tool force, work, dissipation, heat budgets) agree to round-off.
+------------------------------------------------------------------------- */
+
+namespace {
+
+struct CutRun {
+  Snapshot snap;
+  std::vector<double> cut, heat;
+};
+
+CutRun cut_run(const std::vector<std::string> &args, const std::string &example, const std::vector<std::string> &vars)
+{
+  Lammps l(MPI_COMM_WORLD, args);
+  for (auto &v : vars) l.cmd("variable " + v);
+  l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/" + example + "/in.cutting").c_str());
+  CutRun r;
+  r.snap = take(l);
+  for (int k = 1; k <= 15; k++) r.cut.push_back(l.equal("f_cut[" + std::to_string(k) + "]"));
+  for (int k = 1; k <= 6; k++) r.heat.push_back(l.equal("f_heat[" + std::to_string(k) + "]"));
+  return r;
+}
+
+// largest relative difference of the elements, each against its magnitude in a (floor: 1e-6 of
+// the vector's largest element, for elements that vanish, e.g. the z force of a plane cut)
+double vector_diff(const std::vector<double> &a, const std::vector<double> &b)
+{
+  double big = 0.0, d = 0.0;
+  for (double x : a) big = std::max(big, fabs(x));
+  for (size_t k = 0; k < a.size(); k++) d = std::max(d, fabs(a[k] - b[k]) / std::max(fabs(a[k]), 1e-6 * big));
+  return d;
+}
+
+void expect_same_cut(const CutRun &cpu, const CutRun &kk, const char *what)
+{
+  expect_same(cpu.snap, kk.snap, what);
+  const double dc = vector_diff(cpu.cut, kk.cut), dh = vector_diff(cpu.heat, kk.heat);
+  std::printf("[ %-8s ] contact vector %.3e, heat vector %.3e (tool force %.6g N, %g particles in contact)\n", what, dc,
+              dh, cpu.cut[0], cpu.cut[4]);
+  EXPECT_GT(cpu.cut[4], 2.0);    // the tool is in contact
+  EXPECT_GT(cpu.cut[5], 0.0);    // friction heat went into the workpiece
+  EXPECT_GT(cpu.cut[6], 0.0);    // and into the tool particles
+  EXPECT_LT(dc, 1e-10) << what;
+  EXPECT_LT(dh, 1e-10) << what;
+}
+
+}    // namespace
+
+TEST(KokkosThermal, Cut2DMatchesCpu)
+{
+  const std::vector<std::string> vars = {"ny index 11", "cut index 0.12e-3", "dumpevery index 0",
+                                         "steps index 9000", "thermoevery index 1000"};
+  const CutRun cpu = cut_run({}, "cutting-2d-ti6al4v", vars);
+  const CutRun kk = cut_run(KK_FULL, "cutting-2d-ti6al4v", vars);
+  expect_same_cut(cpu, kk, "cut 2D");
+}
+
+TEST(KokkosThermal, Cut3DFreeSidesMatchesCpu)
+{
+  const std::vector<std::string> vars = {"ny index 6", "nz index 3", "sides index free", "steps index 2500",
+                                         "xstart index 1", "thermoevery index 500"};
+  const CutRun cpu = cut_run({}, "cutting-3d-ti6al4v", vars);
+  const CutRun kk = cut_run(KK_FULL, "cutting-3d-ti6al4v", vars);
+  expect_same_cut(cpu, kk, "cut 3D");
+}
+
+// the options the cuts do not use: the per-particle (non-conservative) form every step, a
+// material interface (FMFS -> Brookshaw), radiation and convection on the surface, a Dirichlet
+// group, scheme brookshaw; a hot block on a cooler substrate of another conductivity, 300 steps
+TEST(KokkosThermal, HeatOptionsMatchCpu)
+{
+  for (const std::string opts : {"conservative no", "scheme brookshaw", "every 3"}) {
+    Snapshot s[2];
+    double e[2][6];
+    for (int k = 0; k < 2; k++) {
+      Lammps l(MPI_COMM_WORLD, k ? KK_FULL : std::vector<std::string>{});
+      l.cmds({"units si", "dimension 3", "boundary f f f", std::string("newton ") + (k ? "off" : "on"),
+              "atom_style atomic", "atom_modify map array", "lattice sc 2e-4",
+              "region box block -2 10 -2 10 -2 10", "create_box 2 box", "region a block -0.01 7.01 -0.01 7.01 -0.01 3.01",
+              "region b block -0.01 7.01 -0.01 7.01 3.99 6.01", "create_atoms 1 region a", "create_atoms 2 region b",
+              "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
+              "pair_style sph/jc-thermal",
+              "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
+              "pair_coeff 2 2 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 15",
+              "variable t0 atom 300+600*(type==2)", "fix sph all sph/jc-thermal temp v_t0 cfl 0.3",
+              "compute surf all surface/lambda",
+              "fix heat all heat/fmfs surface surf convection 1e5 300 radiation 0.8 300 dirichlet bot 300 " + opts,
+              "thermo 0", "run 300"});
+      s[k] = take(l);
+      for (int c = 0; c < 6; c++) e[k][c] = l.equal("f_heat[" + std::to_string(c + 1) + "]");
+    }
+    expect_same(s[0], s[1], opts.c_str());
+    const double dh = vector_diff(std::vector<double>(e[0], e[0] + 6), std::vector<double>(e[1], e[1] + 6));
+    std::printf("[ %-8s ] heat vector %.3e (convection %.4g J, radiation %.4g J, Dirichlet %.4g J)\n",
+                opts.c_str(), dh, e[0][0], e[0][1], e[0][2]);
+    EXPECT_GT(e[0][0], 0.0);
+    EXPECT_GT(e[0][1], 0.0);
+    EXPECT_LT(dh, 1e-10) << opts;
   }
 }

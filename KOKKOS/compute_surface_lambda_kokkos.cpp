@@ -1,0 +1,152 @@
+/* ----------------------------------------------------------------------
+   sphcut - compute surface/lambda/kk: one kernel over the local particles
+   and their full device neighbour list, the arithmetic of the CPU compute
+   (sphcut_thermal.h).  Recomputed under the same rules as the CPU style
+   (every N steps and after each reneighbouring).
+------------------------------------------------------------------------- */
+
+#include "compute_surface_lambda_kokkos.h"
+
+#include "atom_kokkos.h"
+#include "atom_masks.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_jc_thermal_kokkos.h"
+#include "memory_kokkos.h"
+#include "neigh_list_kokkos.h"
+#include "neighbor.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+
+#include "sphcut_kernels.h"
+#include "sphcut_kokkos.h"
+#include "sphcut_thermal.h"
+
+#include <vector>
+
+using namespace LAMMPS_NS;
+
+template <class DeviceType>
+ComputeSurfaceLambdaKokkos<DeviceType>::ComputeSurfaceLambdaKokkos(LAMMPS *lmp, int narg, char **arg) :
+    ComputeSurfaceLambdaKokkosBase(sphcut::require_kokkos(lmp, "Compute surface/lambda/kk"), narg, arg)
+{
+  kokkosable = 1;
+  atomKK = (AtomKokkos *) atom;
+  execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
+  datamask_read = X_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK;
+  datamask_modify = EMPTY_MASK;
+}
+
+template <class DeviceType> ComputeSurfaceLambdaKokkos<DeviceType>::~ComputeSurfaceLambdaKokkos()
+{
+  if (copymode) return;
+  memoryKK->destroy_kokkos(k_out, out);
+  out = nullptr;    // the base destructor must not free it
+}
+
+template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::init()
+{
+  ComputeSurfaceLambda::init();
+  sphcut::kokkos_full_list<DeviceType>(neighbor);
+  if (!dynamic_cast<FixSPHJCThermalKokkosBase *>(fix))
+    error->all(FLERR, "Compute surface/lambda/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  const int n = atom->ntypes + 1;
+  std::vector<double> h((size_t) n * n, 0.0);
+  for (int i = 1; i < n; i++)
+    for (int j = 1; j < n; j++) h[(size_t) i * n + j] = pair->smoothing_length(i, j);
+  d_h = sphcut::to_device<double, DeviceType>(h.data(), n * n, "surface/lambda:h");
+}
+
+// LAMMPS consumers (dumps, variables, fix ave/atom) read the host array
+template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::compute_peratom()
+{
+  compute_device();
+  k_out.sync_host();
+}
+
+template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::compute_device()
+{
+  sphcut::FencedTimer timer(cpu_time);
+  invoked_peratom = update->ntimestep;
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    k_out.template sync<DeviceType>();
+    k_out.template modify<DeviceType>();
+    memoryKK->grow_kokkos(k_out, out, nmax, NCOLS, "surface/lambda:out");
+    array_atom = out;
+    last_step = -1;
+  }
+  if (last_step >= 0 && !update->setupflag && neighbor->lastcall <= last_neigh &&
+      update->ntimestep - last_step < every)
+    return;
+  last_step = update->ntimestep;
+  last_neigh = neighbor->lastcall;
+  if (domain->dimension == 2) kernel<2>();
+  else kernel<3>();
+}
+
+template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<DeviceType>::kernel()
+{
+  atomKK->sync(execution_space, datamask_read);
+  auto *fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
+  fixkk->k_state.template sync<DeviceType>();
+  k_out.template sync<DeviceType>();
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  auto x = atomKK->k_x.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto o = k_out.template view<DeviceType>();
+  auto hij = d_h;
+  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, hides = tool_hides;
+  const int tb = fix->toolbit, cb = fix->clampbit, use_rmass = atom->rmass_flag;
+  const double thr = threshold;
+  using F = FixSPHJCThermal;
+  if (kl->inum != atom->nlocal) Kokkos::deep_copy(o, 0.0);
+
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, kl->inum), KOKKOS_LAMBDA(const int ii) {
+        const int i = ilist(ii);
+        for (int k = 0; k < NCOLS; k++) o(i, k) = 0.0;
+        if (!(mask(i) & gb)) return;
+        const int itool = sphcut::role_from_mask(mask(i), tb, cb) == F::TOOL;
+        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        double B[DIM][DIM] = {}, gs[3] = {0.0, 0.0, 0.0};
+        for (int jj = 0; jj < numneigh(i); jj++) {
+          const int j = neighbors(i, jj) & NEIGHMASK;
+          if (!(mask(j) & gb)) continue;
+          if (!hides && (sphcut::role_from_mask(mask(j), tb, cb) == F::TOOL) != itool) continue;
+          const double h = hij(type(i) * nt + type(j));
+          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+          double r[3], r2;    // x_j - x_i
+          if (!sphcut::in_support(xj, xi, h, r, r2)) continue;
+          double w, wfac;
+          sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
+          const double vj = (use_rmass ? rmass(j) : mass(type(j))) / st(j, F::RHO_F);
+          for (int a = 0; a < DIM; a++) {
+            const double g = -wfac * r[a] * vj;
+            gs[a] += g;
+            for (int b = 0; b < DIM; b++) B[b][a] += r[b] * g;
+          }
+        }
+        const double lam = sphcut::surface_lambda<DIM>(B);
+        o(i, LAMBDA) = lam;
+        o(i, FLAG) = lam < thr ? 1.0 : 0.0;
+        double n[3] = {0.0, 0.0, 0.0};
+        if (lam < thr) sphcut::surface_normal<DIM>(B, gs, n);
+        for (int a = 0; a < DIM; a++) o(i, NX + a) = n[a];
+      });
+  k_out.template modify<DeviceType>();
+}
+
+namespace LAMMPS_NS {
+template class ComputeSurfaceLambdaKokkos<LMPDeviceType>;
+#ifdef LMP_KOKKOS_GPU
+template class ComputeSurfaceLambdaKokkos<LMPHostType>;
+#endif
+}    // namespace LAMMPS_NS

@@ -1,0 +1,530 @@
+/* ----------------------------------------------------------------------
+   sphcut - fix contact/tri-penalty/kk
+
+   post_force, on the device:
+     kernel 1 (one reduction over the local particles): the energy of the
+       previous step's contact force, the nearest tool element within 2h
+       (sphcut_contact.h tool_surface), the spring's dt limit, the contact
+       (penalty_contact), the force added to f, the friction heat to the
+       particle (its temperature rate) and, for the tool's share, the heat
+       per kernel weight of the tool particles around it
+     forward communication of that heat per weight to the ghosts
+     kernel 2 (tool particles): each gathers the heat of the contact
+       particles around it, kernel weighted (the CPU fix scatters the same
+       sums to the tool particles)
+   The host gets the sums of kernel 1 (tool force, work, dissipation,
+   friction power, contact count, deepest penetration, heat booked, the
+   spring's dt limit) and updates the tool's position and velocity.
+------------------------------------------------------------------------- */
+
+#include "fix_contact_tri_penalty_kokkos.h"
+
+#include "atom_kokkos.h"
+#include "atom_masks.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_heat_fmfs.h"
+#include "fix_sph_jc_thermal_kokkos.h"
+#include "neigh_list_kokkos.h"
+#include "neighbor.h"
+#include "output.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_kernels.h"
+#include "sphcut_kokkos.h"
+
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+
+// the sums of the contact kernel: R_SUM.. are added, R_MAXPEN maximised, R_DTCRIT minimised
+enum {
+  R_FX = 0, R_FY, R_FZ, R_WORK, R_DISS, R_FRIC, R_NCONT, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC,
+  R_WOLD, R_DOLD, R_MAXPEN, R_DTCRIT, NRED
+};
+
+template <class DeviceType> struct ContactKernel {
+  typedef DeviceType device_type;
+  typedef double value_type[];
+  const unsigned value_count = NRED;
+  typedef ArrayTypes<DeviceType> AT;
+  typedef typename DeviceType::memory_space mem;
+  typename AT::t_x_array_const x;
+  typename AT::t_v_array_const v;
+  typename AT::t_f_array f;
+  typename AT::t_int_1d_const mask, type;
+  typename AT::t_float_1d_const rmass, mass;
+  typename AT::t_double_2d state;
+  typename AT::t_double_1d qtw;
+  typename AT::t_neighbors_2d neighbors;
+  typename AT::t_int_1d_const numneigh;
+  Kokkos::View<const sphcut::Material *, mem> mat;
+  Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
+  sphcut::TriBinView view;
+  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, dim, setup, stick, nmu, ntp, kernel;
+  int has_heat, tool_particles, lumped;
+  double disp[3], vtool[3];
+  double dt, dt_force, etool, pfac, dfac, sfac, vreg, mu0, eta, split;
+
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  {
+    for (int k = 0; k < NRED; k++) r[k] = 0.0;
+    r[R_DTCRIT] = 1.0e300;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  {
+    for (int k = 0; k < R_MAXPEN; k++) d[k] += s[k];
+    if (s[R_MAXPEN] > d[R_MAXPEN]) d[R_MAXPEN] = s[R_MAXPEN];
+    if (s[R_DTCRIT] < d[R_DTCRIT]) d[R_DTCRIT] = s[R_DTCRIT];
+  }
+
+  // heat (energy/time) into particle i's temperature rate, as FixHeatFMFS::add_heat; true if taken
+  KOKKOS_INLINE_FUNCTION bool add_heat(int i, double m, double power) const
+  {
+    if (!(mask(i) & heatbit)) return false;
+    const double cp = mat(type(i)).cp;
+    if (cp <= 0.0) return false;
+    state(i, FixSPHJCThermal::DTEMP) += power / (m * cp);
+    return true;
+  }
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
+  {
+    using F = FixSPHJCThermal;
+    double *s = &state(i, 0);
+    double *fc = s + F::FCONT, *vc = s + F::VCONT;
+    for (int k = 0; k < dim; k++) {
+      r[R_WOLD] += fc[k] * vtool[k];
+      r[R_DOLD] += fc[k] * (vtool[k] - v(i, k));
+    }
+    fc[0] = fc[1] = fc[2] = 0.0;
+    qtw(i) = 0.0;
+    if (!setup) {
+      for (int k = 0; k < 3; k++) vc[k] = v(i, k);
+      vc[3] = 1.0;
+    }
+    if (!(mask(i) & groupbit) || (mask(i) & toolbit) ||
+        sphcut::role_from_mask(mask(i), fixtoolbit, fixclampbit) == F::TOOL)
+      return;
+    const int it = type(i);
+    const double hi = h(it);
+    const double xt[3] = {x(i, 0) - disp[0], x(i, 1) - disp[1], dim == 2 ? 0.0 : x(i, 2) - disp[2]};
+    sphcut::ContactIn in;
+    double q[3];
+    if (!sphcut::tool_surface(view, xt, hi, in.d, in.n, q)) return;
+    const double mi = use_rmass ? rmass(i) : mass(it);
+    const double dpi = dp(it) > 0.0 ? dp(it) : hi / sfac;
+    {
+      double vr2 = 0.0;
+      for (int k = 0; k < dim; k++) vr2 += (v(i, k) - vtool[k]) * (v(i, k) - vtool[k]);
+      if (sphcut::near_contact(in.d, hi, sfac, sqrt(vr2), dt)) {
+        const double kk = sphcut::penalty_stiffness(mat(it).E, etool, dpi, pfac, dim);
+        const double d = sphcut::penalty_dt_limit(kk, mi, dfac, 1.0);
+        if (d < r[R_DTCRIT]) r[R_DTCRIT] = d;
+      }
+    }
+    if (0.5 * hi / sfac - in.d <= 0.0) return;
+    double vuse[3] = {v(i, 0), v(i, 1), v(i, 2)};
+    if (setup && vc[3] > 0.0 && v(i, 0) == s[F::VEND] && v(i, 1) == s[F::VEND + 1] && v(i, 2) == s[F::VEND + 2])
+      for (int k = 0; k < 3; k++) vuse[k] = vc[k];
+    for (int k = 0; k < 3; k++) {
+      in.x[k] = x(i, k);
+      in.v[k] = vuse[k];
+      in.vtool[k] = vtool[k];
+      in.q[k] = q[k] + disp[k];
+    }
+    in.mass = mi;
+    in.h = hi;
+    in.E_particle = mat(it).E;
+    in.E_tool = etool;
+    in.m_tool = 0.0;
+    in.dp = dpi;
+    in.dim = dim;
+    in.pfac = pfac;
+    in.dfac = dfac;
+    in.sfac = sfac;
+    in.mu = nmu > 0 ? sphcut::mu_table(&mut(0), &muv(0), nmu, s[F::TEMP_F]) : mu0;
+    in.v_reg = vreg;
+    in.dt_stick = stick ? dt_force : 0.0;
+    for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f(i, k) : 0.0;
+    sphcut::ContactOut out;
+    sphcut::penalty_contact(in, out);
+    if (!out.active) return;
+    r[R_NCONT] += 1.0;
+    const double pen = out.delta / (0.5 * hi / sfac);
+    if (pen > r[R_MAXPEN]) r[R_MAXPEN] = pen;
+    for (int k = 0; k < 3; k++) s[F::XSPH + k] = 0.0;    // no XSPH drift in contact (CPU fix)
+    for (int k = 0; k < dim; k++) {
+      f(i, k) += out.f[k];
+      fc[k] = out.f[k];
+      r[R_FX + k] -= out.f[k];
+      r[R_WORK] += out.f[k] * vtool[k];
+      r[R_DISS] += out.f[k] * (vtool[k] - v(i, k));
+    }
+    r[R_FRIC] += out.fric_power;
+
+    const double qf = eta * out.fric_power;
+    if (qf <= 0.0) return;
+    const double acc = setup ? 0.0 : dt;
+    const double qw = split * qf;
+    if (qw > 0.0) {
+      if (has_heat) {
+        if (add_heat(i, mi, qw)) r[R_QSRC] += qw * acc;
+        r[R_QWORK] += qw * acc;
+      } else {
+        r[R_QLOST] += qw * acc;
+      }
+    }
+    const double qt = qf - qw;
+    if (qt <= 0.0) return;
+    if (tool_particles && has_heat) {
+      // the tool particles within the kernel support share it by kernel weight (kernel 2)
+      double wsum = 0.0;
+      for (int jj = 0; jj < numneigh(i); jj++) {
+        const int j = neighbors(i, jj) & NEIGHMASK;
+        if (!(mask(j) & toolbit)) continue;
+        double r2 = 0.0;
+        for (int k = 0; k < 3; k++) r2 += (x(i, k) - x(j, k)) * (x(i, k) - x(j, k));
+        const double hh = hij(it * ntp + type(j));
+        if (r2 >= 4.0 * hh * hh) continue;
+        wsum += sphcut::kernel_w(kernel, dim, sqrt(r2), hh);
+      }
+      if (wsum > 0.0) {
+        qtw(i) = qt / wsum;
+        r[R_QTOOL] += qt * acc;
+        return;
+      }
+    }
+    if (lumped) {
+      r[R_QLUMP] += qt * acc;
+      r[R_QTOOL] += qt * acc;
+    } else {
+      r[R_QLOST] += qt * acc;
+    }
+  }
+};
+
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType>
+FixContactTriPenaltyKokkos<DeviceType>::FixContactTriPenaltyKokkos(LAMMPS *lmp, int narg, char **arg) :
+    FixContactTriPenalty(sphcut::require_kokkos(lmp, "Fix contact/tri-penalty/kk"), narg, arg), fixkk(nullptr),
+    q_src_tool(0.0)
+{
+  if (mustyle == MU_VARIABLE)
+    error->all(FLERR, "Fix contact/tri-penalty/kk: mu v_{} (a LAMMPS variable per particle) cannot be "
+               "evaluated on the device; give mu as a number or a table (mu table T1 mu1 T2 mu2 ...), or "
+               "run without /kk", mu_var);
+  kokkosable = 1;
+  forward_comm_device = 1;
+  comm_forward = 1;
+  atomKK = (AtomKokkos *) atom;
+  execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
+  datamask_read = X_MASK | V_MASK | F_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK;
+  datamask_modify = F_MASK;
+}
+
+// restart files match fixes by ID and style: the /kk fix goes by the CPU style's name
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_constructor()
+{
+  delete[] style;
+  style = utils::strdup("contact/tri-penalty");
+}
+
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
+{
+  // the CPU init reads positions, masks and types on the host (split auto, the first dt limit)
+  atomKK->sync(Host, X_MASK | V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
+  FixContactTriPenalty::init();
+  if (toolbit) sphcut::kokkos_full_list<DeviceType>(neighbor);
+  fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
+  if (!fixkk) error->all(FLERR, "Fix contact/tri-penalty/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  if (heat && !heat->kokkosable)
+    error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
+  upload();
+  peratom_freq = fix->peratom_freq;    // the per-atom contact force comes to the host with the state
+}
+
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::upload()
+{
+  d_elem = sphcut::to_device<double, DeviceType>(bins.elem.data(), (int) bins.elem.size(), "contact:elem");
+  d_sphere = sphcut::to_device<double, DeviceType>(bins.sphere.data(), (int) bins.sphere.size(), "contact:sphere");
+  d_start = sphcut::to_device<int, DeviceType>(bins.start.data(), (int) bins.start.size(), "contact:start");
+  d_index = sphcut::to_device<int, DeviceType>(bins.index.data(), (int) bins.index.size(), "contact:index");
+  d_view = bins.view();
+  d_view.elem = d_elem.data();
+  d_view.sphere = d_sphere.data();
+  d_view.start = d_start.data();
+  d_view.index = d_index.data();
+  const int n = atom->ntypes + 1;
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "contact:mat");
+  std::vector<double> h(n, 0.0), dp(n, 0.0), hij((size_t) n * n, 0.0);
+  for (int i = 1; i < n; i++) {
+    h[i] = pair->smoothing_length(i);
+    dp[i] = pair->spacing(i);
+    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = pair->smoothing_length(i, j);
+  }
+  d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "contact:h");
+  d_dp = sphcut::to_device<double, DeviceType>(dp.data(), n, "contact:dp");
+  d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "contact:hij");
+  const int nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
+  std::vector<double> t(mu_t), m(mu_v);
+  t.resize(nmu + 1, 0.0);
+  m.resize(nmu + 1, 0.0);
+  d_mut = sphcut::to_device<double, DeviceType>(t.data(), nmu + 1, "contact:mut");
+  d_muv = sphcut::to_device<double, DeviceType>(m.data(), nmu + 1, "contact:muv");
+}
+
+/* setup as the CPU fix (host), then the forces of the setup step on the device */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::setup(int vflag)
+{
+  atomKK->sync(Host, X_MASK | V_MASK | MASK_MASK | TYPE_MASK);
+  fixkk->k_state.sync_host();
+  update_tool_velocity();
+  atomKK->modified(Host, V_MASK);
+  if (!inside_checked) {
+    warn_inside();
+    if (!restored) clear_history();
+    fixkk->k_state.modify_host();
+  }
+  inside_checked = 1;
+  post_force(vflag);
+  if (write_every) write_geometry();
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_force(int)
+{
+  sphcut::FencedTimer timer(cpu_time);
+  atomKK->sync(execution_space, datamask_read);
+  fixkk->k_state.template sync<DeviceType>();
+  if ((int) k_qtw.extent(0) < atom->nmax) k_qtw = DAT::tdual_double_1d("contact:qtw", atom->nmax);
+  k_qtw.template sync<DeviceType>();
+  const double dt = update->dt;
+  if (!update->setupflag || dt_last <= 0.0) dt_last = dt;
+
+  ContactKernel<DeviceType> k;
+  k.x = atomKK->k_x.view<DeviceType>();
+  k.v = atomKK->k_v.view<DeviceType>();
+  k.f = atomKK->k_f.view<DeviceType>();
+  k.mask = atomKK->k_mask.view<DeviceType>();
+  k.type = atomKK->k_type.view<DeviceType>();
+  k.rmass = atomKK->k_rmass.view<DeviceType>();
+  k.mass = atomKK->k_mass.view<DeviceType>();
+  k.state = fixkk->k_state.template view<DeviceType>();
+  k.qtw = k_qtw.template view<DeviceType>();
+  const int tool_particles = toolbit && list;
+  if (tool_particles) {
+    auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+    k.neighbors = kl->d_neighbors;
+    k.numneigh = kl->d_numneigh;
+  }
+  k.mat = d_mat;
+  k.h = d_h;
+  k.dp = d_dp;
+  k.hij = d_hij;
+  k.mut = d_mut;
+  k.muv = d_muv;
+  k.view = d_view;
+  k.groupbit = groupbit;
+  k.toolbit = toolbit;
+  k.fixtoolbit = fix->toolbit;
+  k.fixclampbit = fix->clampbit;
+  k.heatbit = heat ? heat->groupbit : 0;
+  k.use_rmass = atom->rmass_flag;
+  k.dim = domain->dimension;
+  k.setup = update->setupflag;
+  k.stick = stick;
+  k.nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
+  k.ntp = atom->ntypes + 1;
+  k.kernel = pair->kernel();
+  k.has_heat = heat != nullptr;
+  k.tool_particles = tool_particles;
+  k.lumped = tool_cp > 0.0;
+  for (int d = 0; d < 3; d++) {
+    k.disp[d] = disp[d];
+    k.vtool[d] = vtool[d];
+  }
+  k.dt = dt;
+  k.dt_force = dt_last;
+  k.etool = etool;
+  k.pfac = pfac;
+  k.dfac = dfac;
+  k.sfac = sfac;
+  k.vreg = vreg;
+  k.mu0 = mu0;
+  k.eta = eta;
+  k.split = split;
+  double r[NRED];
+  Kokkos::parallel_reduce(Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), k, r);
+  fixkk->k_state.template modify<DeviceType>();
+  k_qtw.template modify<DeviceType>();
+  atomKK->modified(execution_space, F_MASK);
+
+  for (int d = 0; d < 3; d++) ftool[d] = r[R_FX + d];
+  work_rate = r[R_WORK];
+  diss_rate = r[R_DISS];
+  fric_power = r[R_FRIC];
+  ncontact = (int) r[R_NCONT];
+  maxpen = r[R_MAXPEN];
+  dt_crit = r[R_DTCRIT];
+  q_work += r[R_QWORK];
+  q_tool_lost += r[R_QLOST];
+  q_tool += r[R_QTOOL];
+  double q_sources = r[R_QSRC];
+  if (tool_cp > 0.0) {
+    double qsum = 0.0;
+    MPI_Allreduce(&r[R_QLUMP], &qsum, 1, MPI_DOUBLE, MPI_SUM, world);
+    tool_temp += qsum / tool_cp;
+  }
+  if (tool_particles && heat) {
+    sphcut::forward_comm(comm, this);
+    tool_heat_gather();
+    q_sources += q_src_tool;
+  }
+  if (heat) heat->book_sources(q_sources);
+  if (!update->setupflag) {
+    tool_work += 0.5 * dt * (r[R_WOLD] + work_rate);
+    contact_diss += 0.5 * dt * (r[R_DOLD] + diss_rate);
+  }
+}
+
+/* the tool particles take the tool's share of the friction heat of the contact particles
+   around them, kernel weighted (the CPU fix scatters it from the contact particle's side) */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
+{
+  k_qtw.template sync<DeviceType>();
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  auto x = atomKK->k_x.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto qtw = k_qtw.template view<DeviceType>();
+  auto mat = d_mat;
+  auto hij = d_hij;
+  const int tb = toolbit, hb = heat->groupbit, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
+  const int kern = pair->kernel(), dim = domain->dimension;
+  const double acc = update->setupflag ? 0.0 : update->dt;
+  double q = 0.0;
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      KOKKOS_LAMBDA(const int jj_, double &sum) {
+        const int j = ilist(jj_);
+        if (!(mask(j) & tb)) return;
+        double p = 0.0;
+        for (int ii = 0; ii < numneigh(j); ii++) {
+          const int i = neighbors(j, ii) & NEIGHMASK;
+          if (!(qtw(i) > 0.0)) continue;
+          double r2 = 0.0;
+          for (int k = 0; k < 3; k++) r2 += (x(i, k) - x(j, k)) * (x(i, k) - x(j, k));
+          const double hh = hij(type(i) * ntp + type(j));
+          if (r2 >= 4.0 * hh * hh) continue;
+          p += qtw(i) * sphcut::kernel_w(kern, dim, sqrt(r2), hh);
+        }
+        if (!(p > 0.0) || !(mask(j) & hb)) return;
+        const double cp = mat(type(j)).cp;
+        if (cp <= 0.0) return;
+        const double m = use_rmass ? rmass(j) : mass(type(j));
+        st(j, FixSPHJCThermal::DTEMP) += p / (m * cp);
+        sum += p * acc;
+      },
+      q);
+  fixkk->k_state.template modify<DeviceType>();
+  q_src_tool = q;
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::end_of_step()
+{
+  compute_tool_velocity();
+  if (toolbit) tool_velocity_device();
+  if (write_every && update->ntimestep % write_every == 0) write_geometry();
+  // the per-atom contact force (f_ID) on the host on output steps and every peratom_freq steps
+  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) {
+    fixkk->k_state.sync_host();
+    copy_output();
+  }
+}
+
+// the rigid tool particles move with the tool
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_velocity_device()
+{
+  atomKK->sync(execution_space, V_MASK | MASK_MASK);
+  auto v = atomKK->k_v.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  const int tb = toolbit;
+  const double v0 = vtool[0], v1 = vtool[1], v2 = vtool[2];
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+        if (!(mask(i) & tb)) return;
+        v(i, 0) = v0;
+        v(i, 1) = v1;
+        v(i, 2) = v2;
+      });
+  atomKK->modified(execution_space, V_MASK);
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType>
+int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist,
+                                                                          int iswap, DAT::tdual_xfloat_1d &k_buf,
+                                                                          int, int *)
+{
+  k_qtw.template sync<DeviceType>();
+  auto list_ = k_sendlist.view<DeviceType>();
+  auto buf = k_buf.view<DeviceType>();
+  auto q = k_qtw.template view<DeviceType>();
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { buf(ii) = q(list_(iswap, ii)); });
+  return n;
+}
+
+template <class DeviceType>
+void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first,
+                                                                             DAT::tdual_xfloat_1d &k_buf)
+{
+  k_qtw.template sync<DeviceType>();
+  auto buf = k_buf.view<DeviceType>();
+  auto q = k_qtw.template view<DeviceType>();
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { q(first + ii) = buf(ii); });
+  k_qtw.template modify<DeviceType>();
+}
+
+template <class DeviceType>
+int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
+{
+  k_qtw.sync_host();
+  for (int ii = 0; ii < n; ii++) buf[ii] = k_qtw.h_view(list_[ii]);
+  return n;
+}
+
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
+{
+  k_qtw.sync_host();
+  for (int i = 0; i < n; i++) k_qtw.h_view(first + i) = buf[i];
+  k_qtw.modify_host();
+}
+
+namespace LAMMPS_NS {
+template class FixContactTriPenaltyKokkos<LMPDeviceType>;
+#ifdef LMP_KOKKOS_GPU
+template class FixContactTriPenaltyKokkos<LMPHostType>;
+#endif
+}    // namespace LAMMPS_NS

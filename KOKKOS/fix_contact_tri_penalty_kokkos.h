@@ -1,0 +1,68 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - fix contact/tri-penalty/kk: the penalty contact with the
+   triangulated tool on the Kokkos device.  The tool mesh and its bins are
+   copied to the device at init; one kernel per step finds each particle's
+   nearest tool element and applies the contact of sphcut_contact.h
+   (penalty, damping, friction with the stick limit, mu(T) tables, friction
+   heat); the tool's share of the friction heat reaches the tool particles
+   by a gather (no atomics, no reverse communication).  The global sums
+   (tool force, powers, heat, the spring's dt limit) come back in one
+   reduction.  mu from a LAMMPS variable cannot run in a kernel: refused.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(contact/tri-penalty/kk,FixContactTriPenaltyKokkos<LMPDeviceType>);
+FixStyle(contact/tri-penalty/kk/device,FixContactTriPenaltyKokkos<LMPDeviceType>);
+FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_CONTACT_TRI_PENALTY_KOKKOS_H
+#define LMP_FIX_CONTACT_TRI_PENALTY_KOKKOS_H
+
+#include "fix_contact_tri_penalty.h"
+#include "kokkos_base.h"
+#include "kokkos_type.h"
+#include "sphcut_contact.h"
+#include "sphcut_material.h"
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermalKokkosBase;
+
+template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContactTriPenalty, public KokkosBase {
+ public:
+  typedef DeviceType device_type;
+  typedef ArrayTypes<DeviceType> AT;
+  FixContactTriPenaltyKokkos(class LAMMPS *, int, char **);
+  void post_constructor() override;
+  void init() override;
+  void setup(int) override;
+  void post_force(int) override;
+  void end_of_step() override;
+  int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
+  void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+
+ public:    // (CUDA: a function that launches a device lambda must be public)
+  typedef typename DeviceType::memory_space mem;
+  FixSPHJCThermalKokkosBase *fixkk;
+  Kokkos::View<double *, mem> d_elem, d_sphere;
+  Kokkos::View<int *, mem> d_start, d_index;
+  sphcut::TriBinView d_view;                      // points at the device copies
+  Kokkos::View<sphcut::Material *, mem> d_mat;
+  Kokkos::View<double *, mem> d_h, d_dp, d_hij;  // per type (h, spacing), per type pair (h)
+  Kokkos::View<double *, mem> d_mut, d_muv;      // mu(T) table
+  DAT::tdual_double_1d k_qtw;                    // tool heat per kernel weight of each contact particle
+  void upload();
+  void tool_velocity_device();
+  void tool_heat_gather();
+  double q_src_tool;                             // heat the gather added to tool particles (energy)
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif

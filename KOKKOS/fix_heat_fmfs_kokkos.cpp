@@ -1,0 +1,561 @@
+/* ----------------------------------------------------------------------
+   sphcut - fix heat/fmfs/kk
+
+   One evaluation on the device (every N steps, as the CPU fix):
+     conservative (default)  kernel 1: per particle the scheme (FMFS or
+                             Brookshaw) and the FMFS pair weights; device
+                             forward communication of the weights; kernel 2:
+                             the pairwise exchange and the surface losses
+                             into the held rate (state column HELD)
+     conservative no         one kernel: the FMFS or Brookshaw Laplacian
+   Every step one kernel adds the held rate to the temperature rate DTEMP.
+   Dirichlet groups: one kernel after the predictor, one reduction after
+   the corrector (the heat through the clamp).  The few global sums (loss
+   rates, scheme counters, clamp heat) come back by parallel_reduce.
+------------------------------------------------------------------------- */
+
+#include "fix_heat_fmfs_kokkos.h"
+
+#include "atom_kokkos.h"
+#include "atom_masks.h"
+#include "comm.h"
+#include "compute_surface_lambda_kokkos.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_sph_jc_thermal_kokkos.h"
+#include "neigh_list_kokkos.h"
+#include "neighbor.h"
+#include "pair_sph_jc_thermal.h"
+#include "update.h"
+
+#include "sphcut_compat.h"
+#include "sphcut_kernels.h"
+#include "sphcut_kokkos.h"
+#include "sphcut_thermal.h"
+
+#include <cstring>
+#include <vector>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+constexpr int NW = 1 + 3 * 3 + 3;    // scheme flag, Gf (3x3), z (3)
+}    // namespace
+
+template <class DeviceType>
+FixHeatFMFSKokkos<DeviceType>::FixHeatFMFSKokkos(LAMMPS *lmp, int narg, char **arg) :
+    FixHeatFMFS(sphcut::require_kokkos(lmp, "Fix heat/fmfs/kk"), narg, arg), fixkk(nullptr), surfkk(nullptr)
+{
+  kokkosable = 1;
+  forward_comm_device = 1;
+  atomKK = (AtomKokkos *) atom;
+  execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
+  datamask_read = X_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK;
+  datamask_modify = EMPTY_MASK;
+}
+
+template <class DeviceType> FixHeatFMFSKokkos<DeviceType>::~FixHeatFMFSKokkos() {}
+
+// restart files match fixes by ID and style: the /kk fix goes by the CPU style's name (as the
+// mechanics fix does), so the energy budget continues under either
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_constructor()
+{
+  delete[] style;
+  style = utils::strdup("heat/fmfs");
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
+{
+  FixHeatFMFS::init();
+  sphcut::kokkos_full_list<DeviceType>(neighbor);
+  fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
+  if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  surfkk = nullptr;
+  if (surface) {
+    surfkk = dynamic_cast<ComputeSurfaceLambdaKokkosBase *>(surface);
+    if (!surfkk)
+      error->all(FLERR, "Fix heat/fmfs/kk: surface compute {} is not compute surface/lambda/kk (run with -sf kk)",
+                 id_surface);
+  }
+  const int n = atom->ntypes + 1;
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "heat/fmfs:mat");
+  std::vector<double> hij((size_t) n * n, 0.0), h(n, 0.0);
+  for (int i = 1; i < n; i++) {
+    h[i] = pair->smoothing_length(i);
+    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = pair->smoothing_length(i, j);
+  }
+  d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
+  d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
+  const int nd = (int) dirichlet.size();
+  std::vector<int> db(nd + 1, 0);
+  std::vector<double> dtemp(nd + 1, 0.0);
+  for (int k = 0; k < nd; k++) {
+    db[k] = dirichlet[k].groupbit;
+    dtemp[k] = dirichlet[k].temp;
+  }
+  d_dirbit = sphcut::to_device<int, DeviceType>(db.data(), nd + 1, "heat/fmfs:dirbit");
+  d_dirtemp = sphcut::to_device<double, DeviceType>(dtemp.data(), nd + 1, "heat/fmfs:dirtemp");
+}
+
+/* thermal time step limit of this rank (a reduction on the device; taken by fix sph/jc-thermal
+   every step with the other attached styles' limits) */
+template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(double, double Fc) const
+{
+  if (!fixkk || d_mat.extent(0) == 0) return 1.0e300;
+  fixkk->k_state.template sync<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto mat = d_mat;
+  auto h = d_h;
+  const int gb = groupbit, ev = every;
+  double dt = 1.0e300;
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      KOKKOS_LAMBDA(const int i, double &m) {
+        if (!(mask(i) & gb)) return;
+        const int t = type(i);
+        const double d = sphcut::thermal_dt_limit(st(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t), Fc, ev);
+        if (d < m) m = d;
+      },
+      Kokkos::Min<double>(dt));
+  return dt;
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
+{
+  check_timestep();
+  if (!dirichlet.empty()) {
+    // Dirichlet particles start at their temperature
+    atomKK->sync(execution_space, MASK_MASK);
+    fixkk->k_state.template sync<DeviceType>();
+    auto st = fixkk->k_state.template view<DeviceType>();
+    auto mask = atomKK->k_mask.view<DeviceType>();
+    auto db = d_dirbit;
+    auto dtemp = d_dirtemp;
+    const int gb = groupbit, nd = (int) dirichlet.size();
+    Kokkos::parallel_for(
+        Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+          const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
+          if (k < 0) return;
+          st(i, FixSPHJCThermal::TEMP) = st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
+        });
+    fixkk->k_state.template modify<DeviceType>();
+    sphcut::forward_comm(comm, fix);
+  }
+  post_force(vflag);
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
+{
+  const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
+  if (eval && surfkk) surfkk->compute_device();
+  sphcut::FencedTimer timer(cpu_time);
+  atomKK->sync(execution_space, datamask_read);
+  fixkk->k_state.template sync<DeviceType>();
+  if (eval) {
+    if (conservative) {
+      if (domain->dimension == 2) conduction_conservative_kk<2>();
+      else conduction_conservative_kk<3>();
+    } else {
+      if (domain->dimension == 2) conduction_kk<2>();
+      else conduction_kk<3>();
+    }
+  }
+  add_held();
+  if (!update->setupflag) {
+    q_conv += 0.5 * update->dt * (p_conv_prev + held_conv);
+    q_rad += 0.5 * update->dt * (p_rad_prev + held_rad);
+  }
+  p_conv_prev = held_conv;
+  p_rad_prev = held_rad;
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
+{
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  const int gb = groupbit;
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+        if (mask(i) & gb) st(i, FixSPHJCThermal::DTEMP) += st(i, FixSPHJCThermal::HELD);
+      });
+  fixkk->k_state.template modify<DeviceType>();
+}
+
+/* the non-conservative form: FMFS Laplacian or Brookshaw per particle (FixHeatFMFS::conduction) */
+template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_kk()
+{
+  using F = FixSPHJCThermal;
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  auto x = atomKK->k_x.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  typename AT::t_double_2d surf;
+  if (surfkk) surf = surfkk->k_out.template view<DeviceType>();
+  auto mat = d_mat;
+  auto hij = d_hij;
+  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
+  const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
+  const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
+  const int losses = hconv > 0.0 || emiss > 0.0;
+  double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
+
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
+        const int i = ilist(ii);
+        if (!(mask(i) & gb)) return;
+        const int itype = type(i);
+        const sphcut::Material &mi = mat(itype);
+        if (mi.cp <= 0.0) return;
+        const double Ti = st(i, F::TEMP_F), rhoi = st(i, F::RHO_F);
+        const double massi = use_rmass ? rmass(i) : mass(itype);
+        const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
+        int use_fmfs = fmfs && !is_surf && mi.kappa > 0.0;
+        double brook = 0.0;
+        sphcut::FmfsAccum<DIM> acc;
+        if (use_fmfs) sphcut::fmfs_zero<DIM>(acc);
+        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        for (int jj = 0; jj < numneigh(i); jj++) {
+          const int j = neighbors(i, jj) & NEIGHMASK;
+          if (!(mask(j) & gb)) continue;
+          const int jtype = type(j);
+          const double h = hij(itype * nt + jtype);
+          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+          double dx[3], r2;
+          if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
+          double w, wfac;
+          sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
+          const double Tj = st(j, F::TEMP_F);
+          const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
+          const double kj = mat(jtype).kappa;
+          brook += vj * sphcut::brookshaw_pair_radial(Ti, Tj, mi.kappa, kj, wfac);
+          if (use_fmfs) {
+            if (kj != mi.kappa) {
+              use_fmfs = 0;
+              continue;
+            }
+            const double r[3] = {-dx[0], -dx[1], -dx[2]};
+            const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+            sphcut::fmfs_add<DIM>(acc, r, g, vj, Tj - Ti);
+          }
+        }
+        double rate, lap;
+        if (use_fmfs && sphcut::surface_lambda<DIM>(acc.B) < flam) use_fmfs = 0;
+        if (use_fmfs && sphcut::fmfs_laplacian<DIM>(acc, lap)) {
+          rate = mi.kappa * lap;
+          c_fmfs += 1.0;
+        } else {
+          if (use_fmfs) c_fall += 1.0;
+          rate = brook;
+          c_brook += 1.0;
+        }
+        double dT = rate / (rhoi * mi.cp);
+        if (is_surf && losses) {
+          double qc, qr;
+          sphcut::surface_losses(DIM, massi / rhoi, Ti, hc, tc, es, tr, qc, qr);
+          p_conv += qc;
+          p_rad += qr;
+          dT -= (qc + qr) / (massi * mi.cp);
+        }
+        st(i, F::HELD) = dT;
+      },
+      pc, pr, nf, nb, nfb);
+  fixkk->k_state.template modify<DeviceType>();
+  held_conv = pc;
+  held_rad = pr;
+  n_fmfs += (bigint) nf;
+  n_brookshaw += (bigint) nb;
+  n_fallback += (bigint) nfb;
+}
+
+/* the conservative form (FixHeatFMFS::fmfs_choice and conduction_conservative) */
+template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_conservative_kk()
+{
+  using F = FixSPHJCThermal;
+  if ((int) k_fwts.extent(0) < atom->nmax) k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NW);
+  k_fwts.template sync<DeviceType>();
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  auto x = atomKK->k_x.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto fw = k_fwts.template view<DeviceType>();
+  typename AT::t_double_2d surf;
+  if (surfkk) surf = surfkk->k_out.template view<DeviceType>();
+  auto mat = d_mat;
+  auto hij = d_hij;
+  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
+  const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
+  const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
+  const int losses = hconv > 0.0 || emiss > 0.0;
+  const int nall = atom->nlocal + atom->nghost;
+
+  // 1. the scheme of each particle and its FMFS pair weights
+  double nf = 0.0, nb = 0.0, nfb = 0.0;
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
+        const int i = ilist(ii);
+        if (!(mask(i) & gb)) return;
+        const int itype = type(i);
+        const sphcut::Material &mi = mat(itype);
+        if (mi.cp <= 0.0) return;
+        const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
+        int ok = fmfs && !is_surf && mi.kappa > 0.0;
+        sphcut::FmfsAccum<DIM> acc;
+        if (ok) {
+          sphcut::fmfs_zero<DIM>(acc);
+          const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+          for (int jj = 0; jj < numneigh(i) && ok; jj++) {
+            const int j = neighbors(i, jj) & NEIGHMASK;
+            if (!(mask(j) & gb)) continue;
+            const int jtype = type(j);
+            const double h = hij(itype * nt + jtype);
+            const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+            double dx[3], r2;
+            if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
+            if (mat(jtype).kappa != mi.kappa) {
+              ok = 0;    // material interface: Brookshaw
+              continue;
+            }
+            double w, wfac;
+            sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
+            const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
+            const double r[3] = {-dx[0], -dx[1], -dx[2]};
+            const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+            sphcut::fmfs_add<DIM>(acc, r, g, vj, 0.0);
+          }
+          if (ok && sphcut::surface_lambda<DIM>(acc.B) < flam) ok = 0;
+          if (ok) {
+            double wts[NW - 1];
+            if (sphcut::fmfs_weights<DIM>(acc, wts)) {
+              for (int k = 0; k < NW - 1; k++) fw(i, 1 + k) = wts[k];
+            } else {
+              ok = 0;
+              c_fall += 1.0;
+            }
+          }
+        }
+        fw(i, 0) = ok ? 1.0 : 0.0;
+        if (ok) c_fmfs += 1.0;
+        else c_brook += 1.0;
+      },
+      nf, nb, nfb);
+  k_fwts.template modify<DeviceType>();
+  n_fmfs += (bigint) nf;
+  n_brookshaw += (bigint) nb;
+  n_fallback += (bigint) nfb;
+  sphcut::forward_comm(comm, this);
+  k_fwts.template sync<DeviceType>();
+
+  // 2. the pairwise exchange with the mean weight, and the surface losses
+  double pc = 0.0, pr = 0.0;
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
+        const int i = ilist(ii);
+        if (!(mask(i) & gb)) return;
+        const int itype = type(i);
+        const sphcut::Material &mi = mat(itype);
+        if (mi.cp <= 0.0) return;
+        const double Ti = st(i, F::TEMP_F), rhoi = st(i, F::RHO_F);
+        const double massi = use_rmass ? rmass(i) : mass(itype);
+        const int fi = fw(i, 0) > 0.0;
+        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        double rate = 0.0;
+        for (int jj = 0; jj < numneigh(i); jj++) {
+          const int j = neighbors(i, jj) & NEIGHMASK;
+          if (!(mask(j) & gb)) continue;
+          const int jtype = type(j);
+          const double h = hij(itype * nt + jtype);
+          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+          double dx[3], r2;
+          if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
+          double w, wfac;
+          sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
+          const double kj = mat(jtype).kappa;
+          const double sb = -2.0 * sphcut::harmonic_mean(mi.kappa, kj) * wfac;
+          const double r[3] = {-dx[0], -dx[1], -dx[2]};
+          const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+          const double mr[3] = {dx[0], dx[1], dx[2]}, mg[3] = {-g[0], -g[1], -g[2]};
+          const double sij = fi ? mi.kappa * sphcut::fmfs_pair_weight<DIM>(&fw(i, 1), r, g) : sb;
+          const double sji = fw(j, 0) > 0.0 ? kj * sphcut::fmfs_pair_weight<DIM>(&fw(j, 1), mr, mg) : sb;
+          const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
+          rate += vj * sphcut::conductance_mean(sij, sji) * (st(j, F::TEMP_F) - Ti);
+        }
+        double dT = rate / (rhoi * mi.cp);
+        const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
+        if (is_surf && losses) {
+          double qc, qr;
+          sphcut::surface_losses(DIM, massi / rhoi, Ti, hc, tc, es, tr, qc, qr);
+          p_conv += qc;
+          p_rad += qr;
+          dT -= (qc + qr) / (massi * mi.cp);
+        }
+        st(i, F::HELD) = dT;
+      },
+      pc, pr);
+  fixkk->k_state.template modify<DeviceType>();
+  held_conv = pc;
+  held_rad = pr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType>
+int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
+                                                                 DAT::tdual_xfloat_1d &k_buf, int, int *)
+{
+  k_fwts.template sync<DeviceType>();
+  auto list_ = k_sendlist.view<DeviceType>();
+  auto buf = k_buf.view<DeviceType>();
+  auto fw = k_fwts.template view<DeviceType>();
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+        const int j = list_(iswap, ii);
+        for (int k = 0; k < NW; k++) buf(ii * NW + k) = fw(j, k);
+      });
+  return n * NW;
+}
+
+template <class DeviceType>
+void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
+{
+  k_fwts.template sync<DeviceType>();
+  auto buf = k_buf.view<DeviceType>();
+  auto fw = k_fwts.template view<DeviceType>();
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+        for (int k = 0; k < NW; k++) fw(first + ii, k) = buf(ii * NW + k);
+      });
+  k_fwts.template modify<DeviceType>();
+}
+
+// the classic (host) path of the forward communication
+template <class DeviceType>
+int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
+{
+  k_fwts.sync_host();
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int k = 0; k < NW; k++) buf[m++] = k_fwts.h_view(list_[ii], k);
+  return m;
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
+{
+  k_fwts.sync_host();
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = 0; k < NW; k++) k_fwts.h_view(i, k) = buf[m++];
+  k_fwts.modify_host();
+}
+
+/* ----------------------------------------------------------------------
+   Dirichlet groups (FixHeatFMFS::initial_integrate, final_integrate)
+------------------------------------------------------------------------- */
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::initial_integrate(int)
+{
+  if (dirichlet.empty()) return;
+  sphcut::FencedTimer timer(cpu_time);
+  atomKK->sync(execution_space, MASK_MASK);
+  fixkk->k_state.template sync<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto db = d_dirbit;
+  auto dtemp = d_dirtemp;
+  const int gb = groupbit, nd = (int) dirichlet.size();
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+        const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
+        if (k >= 0) st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
+      });
+  fixkk->k_state.template modify<DeviceType>();
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::final_integrate()
+{
+  if (dirichlet.empty()) return;
+  sphcut::FencedTimer timer(cpu_time);
+  atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
+  fixkk->k_state.template sync<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto mat = d_mat;
+  auto db = d_dirbit;
+  auto dtemp = d_dirtemp;
+  const int gb = groupbit, nd = (int) dirichlet.size(), use_rmass = atom->rmass_flag;
+  double q = 0.0;
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      KOKKOS_LAMBDA(const int i, double &sum) {
+        const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
+        if (k < 0) return;
+        const int t = type(i);
+        const double m = use_rmass ? rmass(i) : mass(t);
+        sum += m * mat(t).cp * (dtemp(k) - st(i, FixSPHJCThermal::TEMP));
+        st(i, FixSPHJCThermal::TEMP) = dtemp(k);
+      },
+      q);
+  fixkk->k_state.template modify<DeviceType>();
+  q_dirichlet += q;
+}
+
+// element 5 (thermal energy) is summed on the device; the others are host scalars
+template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::compute_vector(int n)
+{
+  if (n != 4 || !fixkk) return FixHeatFMFS::compute_vector(n);
+  atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
+  fixkk->k_state.template sync<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  auto mat = d_mat;
+  const int gb = groupbit, use_rmass = atom->rmass_flag;
+  double loc = 0.0, res = 0.0;
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      KOKKOS_LAMBDA(const int i, double &sum) {
+        if (!(mask(i) & gb)) return;
+        const int t = type(i);
+        sum += (use_rmass ? rmass(i) : mass(t)) * mat(t).cp * st(i, FixSPHJCThermal::TEMP);
+      },
+      loc);
+  MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+  return res;
+}
+
+namespace LAMMPS_NS {
+template class FixHeatFMFSKokkos<LMPDeviceType>;
+#ifdef LMP_KOKKOS_GPU
+template class FixHeatFMFSKokkos<LMPHostType>;
+#endif
+}    // namespace LAMMPS_NS

@@ -1,0 +1,66 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   sphcut - fix heat/fmfs/kk: FMFS / Brookshaw conduction, convection and
+   radiation on surface particles, Dirichlet groups and sub-cycling on the
+   Kokkos device, with the arithmetic of the CPU fix (sphcut_thermal.h).
+   It reads and writes the state of fix sph/jc-thermal/kk on the device
+   (the rate held between evaluations is its column HELD) and the surface
+   flags of compute surface/lambda/kk without a host copy.
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+// clang-format off
+FixStyle(heat/fmfs/kk,FixHeatFMFSKokkos<LMPDeviceType>);
+FixStyle(heat/fmfs/kk/device,FixHeatFMFSKokkos<LMPDeviceType>);
+FixStyle(heat/fmfs/kk/host,FixHeatFMFSKokkos<LMPHostType>);
+// clang-format on
+#else
+
+#ifndef LMP_FIX_HEAT_FMFS_KOKKOS_H
+#define LMP_FIX_HEAT_FMFS_KOKKOS_H
+
+#include "fix_heat_fmfs.h"
+#include "kokkos_base.h"
+#include "kokkos_type.h"
+#include "sphcut_material.h"
+
+namespace LAMMPS_NS {
+
+class FixSPHJCThermalKokkosBase;
+class ComputeSurfaceLambdaKokkosBase;
+
+template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public KokkosBase {
+ public:
+  typedef DeviceType device_type;
+  typedef ArrayTypes<DeviceType> AT;
+  FixHeatFMFSKokkos(class LAMMPS *, int, char **);
+  ~FixHeatFMFSKokkos() override;
+  void post_constructor() override;
+  void init() override;
+  void setup(int) override;
+  void initial_integrate(int) override;
+  void post_force(int) override;
+  void final_integrate() override;
+  double compute_vector(int) override;
+  double dt_limit(double, double F) const override;
+  int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
+  void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+
+ public:    // (CUDA: a function that launches a device lambda must be public)
+  FixSPHJCThermalKokkosBase *fixkk;
+  ComputeSurfaceLambdaKokkosBase *surfkk;
+  Kokkos::View<sphcut::Material *, typename DeviceType::memory_space> d_mat;
+  Kokkos::View<double *, typename DeviceType::memory_space> d_hij, d_h;
+  Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;
+  Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;
+  DAT::tdual_double_2d k_fwts;    // scheme flag and FMFS weights, local + ghost
+  template <int DIM> void conduction_kk();
+  template <int DIM> void conduction_conservative_kk();
+  void add_held();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
