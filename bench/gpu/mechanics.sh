@@ -14,34 +14,7 @@
 # Results (logs, summary.txt) go to $OUT (or ./gpu-out).  Figures: bench/gpu/RESULTS.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
-OUT="${OUT:-$PWD/gpu-out}"
-mkdir -p "$OUT"
-NJ=$(nproc)
-export SPHCUT_CACHE=/tmp/sphcut-cache
-export CUDA_CACHE_MAXSIZE=4294967296      # room for the JIT-compiled sm_90 code
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-export OMP_PROC_BIND=false OMP_NUM_THREADS=1
-SUM="$OUT/summary.txt"
-say() { echo "$*" | tee -a "$SUM"; }
-GPU="${SPHCUT_GPU_ARGS:--k on g 1 -sf kk}"
-
-BIN="${SPHCUT_LMP:-$ROOT/build-cuda/lmp_sphcut}"    # (SPHCUT_LMP, SPHCUT_GPU_ARGS: to try the script elsewhere)
-lmp() { "$BIN" "$@"; }
-
-build() {
-  [ -f "$BIN" ] && return 0
-  { nvidia-smi -L; nvcc --version | tail -2; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1
-  local t0; t0=$(date +%s)
-  mkdir -p /tmp/sphcut-src && tar xzf "$ROOT/.carry/sphcut-sources.tar.gz" -C /tmp/sphcut-src
-  bash "$ROOT/tools/build-deps.sh" --cuda --no-apt --sources /tmp/sphcut-src --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
-    || { tail -30 "$OUT/build-deps.log"; exit 1; }
-  PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
-  cmake -S "$ROOT" -B "$ROOT/build-cuda" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
-    > "$OUT/plugin-build.log" 2>&1 && cmake --build "$ROOT/build-cuda" -j "$NJ" >> "$OUT/plugin-build.log" 2>&1 \
-    || { tail -40 "$OUT/plugin-build.log"; exit 1; }
-  say "build: $(( $(date +%s) - t0 )) s (deps + plugin, $NJ jobs)"
-}
-
+source "$ROOT/bench/gpu/common.sh"
 
 check() {
   local d=/tmp/check; mkdir -p $d; cd $d

@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Cutting on the GPU: all sphcut styles under /kk (pair, fix sph/jc-thermal, fix heat/fmfs,
+# compute surface/lambda, fix contact/tri-penalty) on the device machine (one H100).  Make the
+# sources here first:  mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
+# then through the device tool (carry .carry):  bash bench/gpu/cutting.sh MODE [MODE ...]
+#   check    CPU (1 rank, CPU styles) vs GPU per-atom state after 1000 steps in contact: the 2D
+#            quick cut (11 across) and the 3D cut with free sides (6 across, 3 layers); <= 1e-8
+#   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
+#   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces
+#   slab     2D vs 3D periodic slab (plane strain) at NYS (default 11) across over CUTS (0.3e-3 m):
+#            steady forces per mm of width
+#   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s
+#   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut, with a dump of
+#            the chip region for the picture (tools/render_chip.py renders it)
+# Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
+set -uo pipefail
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
+source "$ROOT/bench/gpu/common.sh"
+GPUK="$GPU -pk kokkos neigh full newton off"
+EX2="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
+EX3="$ROOT/examples/cutting-3d-ti6al4v/in.cutting"
+W=/tmp/cut; mkdir -p $W
+
+# final per-atom state of a run as a dump (sorted by id) for compare.py: the example, then
+# a dump_sph written by run 0 (the setup recomputes rates only)
+snapshot() {
+  local ex=$1 out=$2; shift 2
+  cat > $W/snap.in <<EOI
+include $ex
+dump_sph snap all \${printevery} $out id x y z vx vy vz density pressure vonmises plastic_strain temperature
+dump_modify snap sort id
+run 0
+EOI
+  lmp "$@" -in $W/snap.in -log $W/log.$(basename $out .dump) > $W/screen.$(basename $out .dump) 2>&1 \
+    || { tail -5 $W/screen.$(basename $out .dump); return 1; }
+}
+
+check() {
+  cd $W
+  local v2="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0"
+  local v3="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100"
+  snapshot "$EX2" cpu2.dump $v2 && snapshot "$EX2" gpu2.dump $GPUK $v2 && \
+    say "check 2D cut, CPU vs GPU after 1000 steps ($(grep -m1 -A0 'f_cut\[5\]' log.gpu2 >/dev/null; awk '/^ +1000 /{print "contact particles " $9}' log.gpu2)): $(python3 $ROOT/bench/gpu/compare.py cpu2.dump gpu2.dump 1e-8 | tr '\n' ' ')"
+  snapshot "$EX3" cpu3.dump $v3 && snapshot "$EX3" gpu3.dump $GPUK $v3 && \
+    say "check 3D cut (free sides), CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpu3.dump gpu3.dump 1e-8 | tr '\n' ' ')"
+  grep -B1 -A2 "^ *Step" log.cpu2 log.gpu2 | tail -6 >> "$SUM"
+  cd "$ROOT"
+}
+
+# wall time per step of the 2D cut in contact (the tool starts 1 spacing away)
+rate2d() {
+  local ny=${NY:-41} steps=${STEPS:-20000}
+  cd $W
+  timeout 580 "$BIN" $GPUK -in "$EX2" -var ny $ny -var xstart 1 -var steps $steps -var thermoevery 1000 \
+    -var printevery 100 -var dumpevery 0 -log log.rate$ny > screen.rate$ny 2>&1 || { tail -5 screen.rate$ny; }
+  local loop; loop=$(grep "^Loop time" log.rate$ny | tail -1)
+  say "rate2d ny $ny: $loop"
+  say "  $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%.1f us/step, %.3e particle-steps/s", 1e6*t/n, a*n/t}' log.rate$ny)"
+  awk '/sphcut timing/{n++} n==2' log.rate$ny | sed -n '1,8p' | grep -v "^Loop" | sed 's/^/    /' >> "$SUM"
+  cd "$ROOT"
+}
+
+cut2d() {
+  local ny=${NY:-41} cut=${CUT:-2e-3}
+  mkdir -p $W/cut2d-$ny; cd $W/cut2d-$ny
+  local t0; t0=$(date +%s)
+  timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
+    -var printevery 100 -var dumpevery 0 -log log.cutting > screen 2>&1 || tail -3 screen
+  say "cut2d ny $ny cut $cut: $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.cutting | tail -1)"
+  say "  $(tail -1 forces.dat)"
+  python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
+  cd "$ROOT"
+}
+
+slab() {
+  local ny=${NYS:-11} cut=${CUTS:-0.3e-3}
+  mkdir -p $W/slab2d $W/slab3d
+  cd $W/slab2d && timeout 280 "$BIN" $GPUK -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
+    -var printevery 100 -var dumpevery 0 -log log.cutting > screen 2>&1
+  say "slab: 2D ny $ny: $(grep '^Loop time' log.cutting | tail -1)"
+  python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
+  cd $W/slab3d && timeout 280 "$BIN" $GPUK -in "$EX3" -var ny $ny -var nz ${NZS:-4} -var cut $cut -var thermoevery 10000 \
+    -var printevery 100 -log log.cutting > screen 2>&1
+  say "slab: 3D periodic ny $ny nz ${NZS:-4}: $(grep '^Loop time' log.cutting | tail -1)"
+  python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
+  cd "$ROOT"
+}
+
+# the 3D cut, periodic slab, all physics; nz layers set the size (ny 41: about 17.6 k per layer)
+bench3d() {
+  cd $W
+  for nz in ${BENCH_NZ:-58 232}; do
+    timeout 290 "$BIN" $GPUK -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 -var steps ${BENCH_STEPS:-200} \
+      -var thermoevery 100 -var printevery 100 -log log.b3d$nz > screen.b3d$nz 2>&1 || tail -3 screen.b3d$nz
+    say "bench3d ny 41 nz $nz: $(grep '^Loop time' log.b3d$nz | tail -1)"
+    say "  $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %.3e particle-steps/s", a, a*n/t}' log.b3d$nz)"
+    awk '/sphcut timing/{n++} n==2' log.b3d$nz | sed -n '1,8p' | grep -v "^Loop" | sed 's/^/    /' >> "$SUM"
+  done
+  cd "$ROOT"
+}
+
+chip3d() {
+  local ny=${NYC:-11} nz=${NZC:-20} cut=${CUTC:-0.3e-3}
+  mkdir -p $W/chip3d; cd $W/chip3d
+  cat > chip.in <<EOI
+include $EX3
+dump_sph snap all \${printevery} chip.dump id type x y z temperature plastic_strain role
+dump_modify snap sort id
+run 0
+EOI
+  timeout ${CHIP_TIMEOUT:-540} "$BIN" $GPUK -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
+    -var thermoevery 5000 -var printevery 100 -log log.cutting > screen 2>&1 || tail -3 screen
+  say "chip3d ny $ny nz $nz (free sides): $(grep '^Loop time' log.cutting | tail -2 | head -1)"
+  say "  $(tail -1 forces.dat)"
+  python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
+  [ -f chip.dump ] && gzip -c chip.dump > "$OUT/chip3d.dump.gz"
+  cd "$ROOT"
+}
+
+build
+export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
+for mode in "${@:-check}"; do
+  say "== $mode ($(date -u +%H:%M:%S))"
+  $mode
+done
+say "== done ($(date -u +%H:%M:%S))"
+tar czf "$OUT/logs.tar.gz" --exclude='*.dump' -C /tmp cut 2>/dev/null || true
