@@ -71,6 +71,9 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   sphcut::kokkos_full_list<DeviceType>(neighbor);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  fixkk->therm_bit = groupbit;    // the thermal dt limit in fix sph/jc-thermal/kk's reduction
+  fixkk->therm_every = every;
+  fixkk->therm_step = -1;
   surfkk = nullptr;
   if (surface) {
     surfkk = dynamic_cast<ComputeSurfaceLambdaKokkosBase *>(surface);
@@ -103,6 +106,8 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
 template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(double, double Fc) const
 {
   if (!fixkk || d_mat.extent(0) == 0) return 1.0e300;
+  // computed by fix sph/jc-thermal/kk after this step's corrector (its final_integrate)
+  if (fixkk->therm_step == update->ntimestep && fixkk->therm_F == Fc) return fixkk->therm_dt;
   fixkk->k_state.template sync<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();

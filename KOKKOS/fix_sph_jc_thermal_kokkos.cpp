@@ -48,6 +48,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_solid.h"
+#include "sphcut_thermal.h"
 
 #include <algorithm>
 #include <cstring>
@@ -63,7 +64,7 @@ namespace {
 template <class DeviceType> struct SecondHalf {
   typedef DeviceType device_type;
   typedef double value_type[];
-  const unsigned value_count = 2;
+  const unsigned value_count = 3;
   typedef ArrayTypes<DeviceType> AT;
   typename AT::t_v_array v;
   typename AT::t_f_array_const f;
@@ -72,20 +73,31 @@ template <class DeviceType> struct SecondHalf {
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
-  int groupbit, toolbit, clampbit, use_rmass, want_dt;
-  double dt, dtf, cfl;
+  int groupbit, toolbit, clampbit, use_rmass, want_dt, therm_bit, therm_every;
+  double dt, dtf, cfl, therm_F;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
     r[0] = 0.0;
-    r[1] = 1.0e300;
+    r[1] = r[2] = 1.0e300;
   }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type dst, const volatile value_type src) const
   {
     dst[0] += src[0];
     if (src[1] < dst[1]) dst[1] = src[1];
+    if (src[2] < dst[2]) dst[2] = src[2];
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
+  {
+    second_half(i, r);
+    if (mask(i) & therm_bit) {    // after the corrector: the density the CPU heat fix sees at end_of_step
+      const int t = type(i);
+      const double d = sphcut::thermal_dt_limit(state(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t),
+                                                therm_F, therm_every);
+      if (d < r[2]) r[2] = d;
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void second_half(const int i, value_type r) const
   {
     if (!(mask(i) & groupbit)) return;
     const int t = type(i);
@@ -173,6 +185,9 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   // the state comes to the host every peratom_every steps (default: the thermo interval) and on
   // output steps; LAMMPS refuses consumers of f_ID per-atom values at other steps
   peratom_freq = peratom_every > 0 ? peratom_every : (output->thermo_every > 0 ? output->thermo_every : 1);
+  sphcut::fence_timers() = fence == 1;
+  therm_bit = 0;    // fix heat/fmfs/kk (initialised after this fix) registers again
+  therm_step = -1;
   atomKK->k_mass.modify<LMPHostType>();
   atomKK->k_mass.sync<DeviceType>();
   upload_tables();
@@ -196,6 +211,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_fo
 {
   atomKK->sync(Host, V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
   k_state.sync_host();
+  therm_step = -1;    // atoms or state may have changed since the last step: heat recomputes its limit
   setup_state();
   k_state.modify_host();
   pre_force(vflag);
@@ -378,10 +394,18 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.dt = dtv;
   k.dtf = dtf;
   k.cfl = cfl;
-  double sums[2] = {0.0, 1.0e300};
+  k.therm_bit = therm_bit;
+  k.therm_every = therm_every;
+  k.therm_F = thermal_cfl;
+  double sums[3] = {0.0, 1.0e300, 1.0e300};
   Kokkos::parallel_reduce(Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), k, sums);
   plastic_work += sums[0];
   dt_next = sums[1];
+  if (therm_bit) {
+    therm_dt = sums[2];
+    therm_F = thermal_cfl;
+    therm_step = update->ntimestep;
+  }
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
 }

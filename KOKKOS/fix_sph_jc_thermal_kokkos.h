@@ -29,6 +29,12 @@ class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
  public:
   FixSPHJCThermalKokkosBase(class LAMMPS *lmp, int narg, char **arg) : FixSPHJCThermal(lmp, narg, arg) {}
   DAT::tdual_double_2d k_state;    // host view = FixSPHJCThermal::state
+  // the thermal time step limit of fix heat/fmfs/kk (sphcut_thermal.h thermal_dt_limit over its
+  // group), taken in the same reduction as the mechanical one: the heat fix registers its group
+  // and sub-cycling interval at init and reads the result (no reduction of its own per step)
+  int therm_bit = 0, therm_every = 1;
+  double therm_dt = 1.0e300, therm_F = 0.0;
+  bigint therm_step = -1;    // step of the last final_integrate that computed therm_dt
 };
 
 template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermalKokkosBase {
@@ -65,6 +71,11 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
 
   double stable_dt() override;
+  std::string timing_note() const override
+  {
+    return fence == 1 ? " (/kk, fence yes: device times)"
+                      : " (/kk, fence no: host time per style, the device runs behind; fence yes for device times)";
+  }
   void check_close_pairs() override;
 
   // one rank: the state follows its atoms by tag on the device (no host exchange, see .cpp)

@@ -90,6 +90,10 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       // the Heun predictor-corrector of the temperature is stable to about 0.15-0.17 (measured)
       if (thermal_cfl <= 0.0 || thermal_cfl > 0.15)
         error->all(FLERR, "Fix sph/jc-thermal: thermal_cfl must be in (0,0.15], got {}", thermal_cfl);
+    } else if (kw == "fence") {
+      if (strcmp(val, "yes") == 0) fence = 1;
+      else if (strcmp(val, "no") == 0) fence = 0;
+      else error->all(FLERR, "Fix sph/jc-thermal: fence must be yes or no, got {}", val);
     } else if (kw == "peratom_every") {
       peratom_every = utils::inumeric(FLERR, val, false, lmp);
       if (peratom_every < 1) error->all(FLERR, "Fix sph/jc-thermal: peratom_every must be >= 1, got {}", peratom_every);
@@ -454,7 +458,8 @@ void FixSPHJCThermal::post_run()
   MPI_Allreduce(t.data(), tmax.data(), (int) t.size(), MPI_DOUBLE, MPI_MAX, world);
   if (comm->me != 0) return;
   const double total = tmax.back() > 0.0 ? tmax.back() : 1.0;
-  std::string msg = fmt::format("sphcut timing of this run (wall seconds, max over ranks; run {:.4g} s):\n", total);
+  std::string msg = fmt::format("sphcut timing of this run (wall seconds, max over ranks; run {:.4g} s){}:\n", total,
+                                timing_note());
   names.push_back("rest (neighbour lists, comm, output, ...)");
   for (size_t k = 0; k < names.size(); k++)
     msg += fmt::format("  {:<42s} {:10.4g} s {:6.1f} %\n", names[k], tmax[k], 100.0 * tmax[k] / total);

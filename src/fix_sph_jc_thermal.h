@@ -78,6 +78,9 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::A
   int force_state_valid;      // force-state columns hold the last predictor (continued run)
   double cfl;                 // > 0: adaptive time step with this Courant number
   int peratom_every = 0;      // > 0: the per-atom array is valid every this many steps (keyword)
+  int fence = -1;             // /kk: 1 per-style timers wait for the device (keyword fence), 0 not, -1 default
+  // remark in the timing table's title (the /kk fix: what its times mean)
+  virtual std::string timing_note() const { return ""; }
   double dtmax, dtmin;
   double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
   double plastic_work;        // accumulated plastic work (energy units), this rank
