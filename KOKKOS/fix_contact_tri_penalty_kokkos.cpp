@@ -365,7 +365,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.eta = eta;
   k.split = split;
   double r[NRED];
-  Kokkos::parallel_reduce(Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), k, r);
+  Kokkos::parallel_reduce(sphcut::range<DeviceType>(0, atom->nlocal), k, r);
   fixkk->k_state.template modify<DeviceType>();
   k_qtw.template modify<DeviceType>();
   atomKK->modified(execution_space, F_MASK);
@@ -421,7 +421,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   const double acc = update->setupflag ? 0.0 : update->dt;
   double q = 0.0;
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int jj_, double &sum) {
         const int j = ilist(jj_);
         if (!(mask(j) & tb)) return;
@@ -470,7 +470,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_ve
   const int tb = toolbit;
   const double v0 = vtool[0], v1 = vtool[1], v2 = vtool[2];
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (!(mask(i) & tb)) return;
         v(i, 0) = v0;
         v(i, 1) = v1;
@@ -491,7 +491,7 @@ int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, 
   auto buf = k_buf.view<DeviceType>();
   auto q = k_qtw.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { buf(ii) = q(list_(iswap, ii)); });
+      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { buf(ii) = q(list_(iswap, ii)); });
   return n;
 }
 
@@ -503,7 +503,7 @@ void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int 
   auto buf = k_buf.view<DeviceType>();
   auto q = k_qtw.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { q(first + ii) = buf(ii); });
+      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { q(first + ii) = buf(ii); });
   k_qtw.template modify<DeviceType>();
 }
 

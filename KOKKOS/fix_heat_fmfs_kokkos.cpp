@@ -117,7 +117,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(doubl
   const int gb = groupbit, ev = every;
   double dt = 1.0e300;
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &m) {
         if (!(mask(i) & gb)) return;
         const int t = type(i);
@@ -141,7 +141,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
     auto dtemp = d_dirtemp;
     const int gb = groupbit, nd = (int) dirichlet.size();
     Kokkos::parallel_for(
-        Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+        sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
           const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
           if (k < 0) return;
           st(i, FixSPHJCThermal::TEMP) = st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
@@ -185,7 +185,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
   auto mask = atomKK->k_mask.view<DeviceType>();
   const int gb = groupbit;
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (mask(i) & gb) st(i, FixSPHJCThermal::DTEMP) += st(i, FixSPHJCThermal::HELD);
       });
   fixkk->k_state.template modify<DeviceType>();
@@ -216,9 +216,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
 
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = ilist(ii);
         if (!(mask(i) & gb)) return;
@@ -316,9 +316,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   // 1. the scheme of each particle and its FMFS pair weights
   double nf = 0.0, nb = 0.0, nfb = 0.0;
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
+      sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = ilist(ii);
         if (!(mask(i) & gb)) return;
@@ -376,9 +376,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   // 2. the pairwise exchange with the mean weight, and the surface losses
   double pc = 0.0, pr = 0.0;
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
         const int i = ilist(ii);
         if (!(mask(i) & gb)) return;
@@ -438,7 +438,7 @@ int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdua
   auto buf = k_buf.view<DeviceType>();
   auto fw = k_fwts.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
         const int j = list_(iswap, ii);
         for (int k = 0; k < NW; k++) buf(ii * NW + k) = fw(j, k);
       });
@@ -452,7 +452,7 @@ void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int fi
   auto buf = k_buf.view<DeviceType>();
   auto fw = k_fwts.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
         for (int k = 0; k < NW; k++) fw(first + ii, k) = buf(ii * NW + k);
       });
   k_fwts.template modify<DeviceType>();
@@ -494,7 +494,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::initial_integrat
   auto dtemp = d_dirtemp;
   const int gb = groupbit, nd = (int) dirichlet.size();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
         if (k >= 0) st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
       });
@@ -518,7 +518,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::final_integrate(
   const int gb = groupbit, nd = (int) dirichlet.size(), use_rmass = atom->rmass_flag;
   double q = 0.0;
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &sum) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
         if (k < 0) return;
@@ -547,7 +547,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::compute_vector
   const int gb = groupbit, use_rmass = atom->rmass_flag;
   double loc = 0.0, res = 0.0;
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &sum) {
         if (!(mask(i) & gb)) return;
         const int t = type(i);

@@ -235,7 +235,7 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
   const double c = cfl;
   double dtloc = 1.0e300;
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal),
+      sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &m) {
         if (!(mask(i) & gb)) return;
         const double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
@@ -267,7 +267,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::check_close_
     const int full = kl->d_numneigh.extent(0) > 0 && lmp->kokkos->neighflag == FULL;
     const double wlocal = full ? 0.5 : 1.0, wghost = full ? 0.5 : (force->newton_pair ? 1.0 : 0.5);
     Kokkos::parallel_reduce(
-        Kokkos::RangePolicy<DeviceType>(0, kl->inum),
+        sphcut::range<DeviceType>(0, kl->inum),
         KOKKOS_LAMBDA(const int ii, double &c, double &r) {
           const int i = ilist(ii);
           for (int jj = 0; jj < numneigh(i); jj++) {
@@ -305,7 +305,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   const int gb = groupbit, tb = toolbit, cb = clampbit, use_rmass = atom->rmass_flag;
   const double dt = dtv, dtfh = dtf;
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (!(mask(i) & gb)) return;
         const int t = type(i);
         const double m = use_rmass ? rmass(i) : mass(t);
@@ -333,7 +333,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   k_state.template sync<DeviceType>();
   auto st = k_state.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });
   k_state.template modify<DeviceType>();
   // the force state to the ghosts: on the device unless LAMMPS takes the classic path
   sphcut::forward_comm(comm, this);
@@ -349,7 +349,7 @@ int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::
   auto buf = k_buf.view<DeviceType>();
   auto st = k_state.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
         const int j = list(iswap, ii);
         for (int k = 0; k < NFORWARD; k++) buf(ii * NFORWARD + k) = st(j, FORWARD_FIRST + k);
       });
@@ -363,7 +363,7 @@ void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, in
   auto buf = k_buf.view<DeviceType>();
   auto st = k_state.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
         for (int k = 0; k < NFORWARD; k++) st(first + ii, FORWARD_FIRST + k) = buf(ii * NFORWARD + k);
       });
   k_state.template modify<DeviceType>();
@@ -398,7 +398,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.therm_every = therm_every;
   k.therm_F = thermal_cfl;
   double sums[3] = {0.0, 1.0e300, 1.0e300};
-  Kokkos::parallel_reduce(Kokkos::RangePolicy<DeviceType>(0, atom->nlocal), k, sums);
+  Kokkos::parallel_reduce(sphcut::range<DeviceType>(0, atom->nlocal), k, sums);
   plastic_work += sums[0];
   dt_next = sums[1];
   if (therm_bit) {
@@ -491,7 +491,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_ex
   auto tag = atomKK->k_tag.view<DeviceType>();
   auto rt = k_rowtag.template view<DeviceType>();
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) { rt(i) = tag(i); });
+      sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) { rt(i) = tag(i); });
   k_rowtag.template modify<DeviceType>();
   nrows = nlocal;
   atom->delete_callback(id, Atom::GROW);
@@ -525,7 +525,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state(
   // largest tag among the labelled rows and the atoms: size of the tag -> row table
   tagint maxtag = 0;
   Kokkos::parallel_reduce(
-      Kokkos::RangePolicy<DeviceType>(0, nold > nlocal ? nold : nlocal),
+      sphcut::range<DeviceType>(0, nold > nlocal ? nold : nlocal),
       KOKKOS_LAMBDA(const int i, tagint &m) {
         if (i < nold && rt(i) > m) m = rt(i);
         if (i < nlocal && tag(i) > m) m = tag(i);
@@ -541,11 +541,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state(
 
   Kokkos::deep_copy(row_of, -1);
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nold), KOKKOS_LAMBDA(const int r) {
+      sphcut::range<DeviceType>(0, nold), KOKKOS_LAMBDA(const int r) {
         if (rt(r) > 0) row_of(rt(r)) = r;
       });
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         const int r = row_of(tag(i));
         if (r >= 0)
           for (int k = 0; k < NCOL; k++) tmp(i, k) = st(r, k);
@@ -553,7 +553,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state(
           sphcut::initial_row(&tmp(i, 0), t0);    // an atom created since the last remap
       });
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         for (int k = 0; k < NCOL; k++) st(i, k) = tmp(i, k);
         rt(i) = tag(i);
       });

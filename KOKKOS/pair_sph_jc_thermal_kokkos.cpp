@@ -197,7 +197,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     k_acc.template sync<DeviceType>();
     auto acc = k_acc.template view<DeviceType>();
     Kokkos::parallel_for(
-        Kokkos::RangePolicy<DeviceType>(0, newton ? nall : nlocal), KOKKOS_LAMBDA(const int i) {
+        sphcut::range<DeviceType>(0, newton ? nall : nlocal), KOKKOS_LAMBDA(const int i) {
           for (int k = 0; k < sphcut::NACC; k++) acc(i, k) = 0.0;
         });
     if (dim == 2) {
@@ -244,7 +244,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   const int use_rmass = atom->rmass_flag;
   using SL = StateLayout;
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         for (int a = 0; a < 3; a++) pk(i, PK_X + a) = x(i, a);
         if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) {
           pk(i, PK_M) = 0.0;    // not in the SPH solid: its neighbours skip it
@@ -285,7 +285,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
   const int nlocal = atom->nlocal;
 
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
+      sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
         const int i = ilist(ii);
         const double mi = pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
@@ -327,7 +327,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(
   auto mt = d_mat;
   const int corr = correction, dim = domain->dimension;
   Kokkos::parallel_for(
-      Kokkos::RangePolicy<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
+      sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         if (pk(i, PK_M) == 0.0) return;    // not in the SPH solid (stress pass)
         store_rates(mt(type(i)), dim, corr, &accv(i, 0), st, i);
       });

@@ -29,6 +29,17 @@ Kokkos::View<T *, typename DeviceType::memory_space> to_device(const T *host, in
   return d;
 }
 
+// the range policy of every sphcut kernel: HintLightWeight passes the functor (its Views and
+// constants, often more than 512 bytes) as a kernel argument.  Without the hint Kokkos 3.4 puts
+// functors over 512 bytes into constant memory, and each such launch waits for the previous one
+// to finish (cudaEventSynchronize): the host cannot run ahead of the device, and the fixed cost
+// of a step grows with the number of kernels (measured: bench/gpu/RESULTS.md)
+template <class DeviceType> inline auto range(int begin, int end)
+{
+  return Kokkos::Experimental::require(Kokkos::RangePolicy<DeviceType>(begin, end),
+                                       Kokkos::Experimental::WorkItemProperty::HintLightWeight);
+}
+
 // whether the /kk styles' timers wait for the device (fix sph/jc-thermal keyword fence): a fence
 // after every hook makes the timing table exact but stops the host from queueing the next
 // kernels while the device works (measured: the 2D cut at 41 across, bench/gpu/RESULTS.md)
