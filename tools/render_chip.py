@@ -2,7 +2,8 @@
 """Render the chip of a cutting run from a dump_sph file (columns id type x y z temperature ...)
 with the OVITO Python module's software ray tracer (Tachyon; no display needed): workpiece
 particles coloured by temperature, tool particles grey, seen obliquely from the free side.
-Usage: render_chip.py DUMP PNG [--crop XMIN]   (python from tools/python-deps.sh --print-python)
+Usage: render_chip.py DUMP PNG [--crop XMIN]   (python from tools/python-deps.sh --print-python;
+OVITO renders through Vulkan: on a machine without a GPU install the Debian package mesa-vulkan-drivers)
 --crop: only particles with x >= XMIN (m), the region around the tool."""
 import sys
 
