@@ -52,10 +52,12 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     mustyle(MU_CONST), mu0(0.0), mu_ivar(-1), mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
     toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
     work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
-    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), vcont(nullptr), qbuf(nullptr), nmax_buf(0),
+    ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), ftmem(nullptr), vcont(nullptr), qbuf(nullptr), nmax_buf(0),
     list(nullptr), fix(nullptr), pair(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
+  for (int f = 0; f < NFEAT; f++)
+    for (int c = 0; c < NDECOMP; c++) decomp[f][c] = 0.0;
   std::string geom;
   std::vector<std::string> gargs;
   sphcut::StlTransform tf;
@@ -148,6 +150,23 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       if (v == "yes") stick = 1;
       else if (v == "no") stick = 0;
       else error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
+      stick_given = 1;
+      iarg += 2;
+    } else if (kw == "friction") {
+      need(1, kw);
+      const std::string v = arg[iarg + 1];
+      if (v == "static") stick = 1;
+      else if (v == "coulomb") stick = 0;
+      else if (v == "memory") fmemory = 1;
+      else error->all(FLERR, "Fix contact/tri-penalty: friction must be static, coulomb or memory, got {}", v);
+      if (v != "memory") fmemory = 0;
+      friction_given = 1;
+      iarg += 2;
+    } else if (kw == "tfac") {
+      need(1, kw);
+      tfac = num(1);
+      if (tfac <= 0.0 || tfac > 1.0) error->all(FLERR, "Fix contact/tri-penalty: tfac must be in (0,1], got {}", tfac);
+      tfac_given = 1;
       iarg += 2;
     } else if (kw == "mu") {
       need(1, kw);
@@ -226,6 +245,15 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     }
   }
   if (geom.empty()) error->all(FLERR, "Fix contact/tri-penalty: no tool geometry (keyword stl or insert)");
+  if (fmemory && stick_given)
+    error->all(FLERR, "Fix contact/tri-penalty: stick applies to friction static/coulomb, not to friction memory");
+  if (stick_given && friction_given)
+    error->all(FLERR, "Fix contact/tri-penalty: give friction or stick, not both (stick yes = friction static, "
+               "stick no = friction coulomb)");
+  if (fmemory && vreg_set)
+    error->all(FLERR, "Fix contact/tri-penalty: vreg applies to friction static/coulomb, not to friction memory");
+  if (!fmemory && tfac_given)
+    error->all(FLERR, "Fix contact/tri-penalty: tfac applies to friction memory only");
   if (geom == "insert" && has_transform)
     error->all(FLERR, "Fix contact/tri-penalty: scale and rotate apply to stl tools only (use move)");
   if (!split_given && toolbit) split_auto = 1;
@@ -283,7 +311,12 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
           else if (gargs[k] == "width") ip.width = v;
           else if (gargs[k] == "segments") ip.arc_segments = (int) v;
         }
-        elem = sphcut::make_cutting_insert(ip, domain->dimension);
+        std::vector<int> tags;
+        elem = sphcut::make_cutting_insert(ip, domain->dimension, &tags);
+        for (int t : tags)
+          elem_feature.push_back(t == sphcut::INSERT_RAKE ? FEAT_RAKE
+                                 : t == sphcut::INSERT_EDGE ? FEAT_EDGE
+                                 : t == sphcut::INSERT_FLANK ? FEAT_FLANK : FEAT_OTHER);
         for (size_t k = 0; k < elem.size(); k += 3)
           for (int c = 0; c < 3; c++) elem[k + c] += (c < 2 || nvert == 3) ? tf.shift[c] : 0.0;
       }
@@ -302,13 +335,17 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   MPI_Bcast(&n, 1, MPI_LONG, 0, world);
   elem.resize(n);
   MPI_Bcast(elem.data(), (int) n, MPI_DOUBLE, 0, world);
+  // feature of each element (only the insert has tags: an STL tool is all FEAT_OTHER)
+  const long nel = n / (nvert == 3 ? 9 : 6);
+  if ((long) elem_feature.size() != nel) elem_feature.assign(nel, FEAT_OTHER);
+  MPI_Bcast(elem_feature.data(), (int) nel, MPI_INT, 0, world);
 
   vector_flag = 1;
-  size_vector = 15;
+  size_vector = 15 + NFEAT * NDECOMP;
   global_freq = 1;
   extvector = 0;
   peratom_flag = 1;
-  size_peratom_cols = 3;
+  size_peratom_cols = 6;
   peratom_freq = 1;
   restart_global = 1;
   comm_reverse = 1;
@@ -319,11 +356,10 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int k = 0; k < 4; k++) {
-      if (k < 3) fcontact[i][k] = 0.0;
-      vcont[i][k] = 0.0;
-    }
+  for (int i = 0; i < atom->nlocal; i++) {
+    for (int k = 0; k < 6; k++) fcontact[i][k] = ftmem[i][k] = 0.0;
+    for (int k = 0; k < 4; k++) vcont[i][k] = 0.0;
+  }
 }
 
 FixContactTriPenalty::~FixContactTriPenalty()
@@ -331,6 +367,7 @@ FixContactTriPenalty::~FixContactTriPenalty()
   atom->delete_callback(id, Atom::GROW);
   atom->delete_callback(id, Atom::RESTART);
   memory->destroy(fcontact);
+  memory->destroy(ftmem);
   memory->destroy(vcont);
   memory->destroy(qbuf);
 }
@@ -549,6 +586,8 @@ void FixContactTriPenalty::post_force(int)
   fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
   dt_crit = 1.0e300;
+  for (int ft = 0; ft < NFEAT; ft++)
+    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
 
   // energy over the step with the weights of velocity Verlet: the particle gains
@@ -562,11 +601,18 @@ void FixContactTriPenalty::post_force(int)
     }
 
   for (int i = 0; i < nlocal; i++) {
-    fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+    for (int k = 0; k < 6; k++) fcontact[i][k] = 0.0;
     if (!update->setupflag) {
       for (int k = 0; k < 3; k++) vcont[i][k] = atom->v[i][k];
       vcont[i][3] = 1.0;
     }
+    // friction memory: a step takes the last step's friction force as f_old, remembers it
+    // as its input and zeroes the state (set again below if the particle is in contact)
+    if (fmemory && !update->setupflag)
+      for (int k = 0; k < 3; k++) {
+        ftmem[i][3 + k] = ftmem[i][k];
+        ftmem[i][k] = 0.0;
+      }
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const int it = type[i];
     const double h = pair->smoothing_length(it);
@@ -611,9 +657,18 @@ void FixContactTriPenalty::post_force(int)
     // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
     // run (restart, or a second run with unchanged velocities) the one of the last step
     const double *vuse = atom->v[i];
-    if (update->setupflag && vcont[i][3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
-        atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2])
-      vuse = vcont[i];
+    const bool repeat = update->setupflag && vcont[i][3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
+        atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2];
+    if (repeat) vuse = vcont[i];
+    // f_old of the memory law: at a step its input set above; a setup evaluation that repeats
+    // the last step (a continued run) uses that step's input if the particle had friction then,
+    // else the current state (zero after a contact ended)
+    double ft_in[3] = {0.0, 0.0, 0.0};
+    if (fmemory) {
+      const bool had = ftmem[i][0] != 0.0 || ftmem[i][1] != 0.0 || ftmem[i][2] != 0.0;
+      const int c0 = !update->setupflag || (repeat && had) ? 3 : 0;
+      for (int k = 0; k < 3; k++) ft_in[k] = ftmem[i][c0 + k];
+    }
     for (int k = 0; k < 3; k++) {
       in.x[k] = x[i][k];
       in.v[k] = vuse[k];
@@ -636,10 +691,36 @@ void FixContactTriPenalty::post_force(int)
     // included) and never exceeds the force that stops it: static friction up to mu F_N
     in.dt_stick = stick ? dt_force : 0.0;
     for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f[i][k] : 0.0;
+    if (fmemory) {
+      in.friction_memory = 1;
+      in.tfac = tfac;
+      in.dt = dt_force;
+      in.dt_stick = 0.0;
+      for (int k = 0; k < 3; k++) in.ft_old[k] = ft_in[k];
+    }
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) continue;
     ncontact++;
+    if (fmemory && !update->setupflag)
+      for (int k = 0; k < 3; k++) ftmem[i][k] = out.ft[k];
+    // decomposition by the tool feature of the closest element (forces on the tool)
+    {
+      const int feat = elem_feature[best];
+      double *dc = decomp[feat];
+      const double ftm = sphcut::len3(out.ft);
+      for (int k = 0; k < 2; k++) {
+        dc[k] -= out.fn * in.n[k];
+        dc[2 + k] -= out.ft[k];
+      }
+      dc[4] += 1.0;
+      dc[5] += out.fn;
+      dc[6] += ftm;
+      dc[7] += out.slip;
+      fcontact[i][3] = out.fn;
+      fcontact[i][4] = ftm;
+      fcontact[i][5] = feat + 1;
+    }
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
     // no XSPH drift in contact: the spring force does work with the velocity v that the
     // kinetic energy sees, so the particle must move with v (a smoothed drift velocity
@@ -759,7 +840,11 @@ void FixContactTriPenalty::write_geometry()
    to the contact radius, 13 work done by the tool, 14 friction heat not
    assigned (no heat fix / tool particle), 15 energy dissipated at the contact
    (friction and dashpot, sum F.(v_tool - v) integrated): work of the tool =
-   kinetic + internal energy change of the particles + this
+   kinetic + internal energy change of the particles + this;
+   16-47 the decomposition by tool feature, 8 values each for rake (16-23),
+   edge (24-31), flank (32-39), other (40-47: back face, STL tools): normal
+   force on the tool x, y; friction force on the tool x, y; contacts;
+   sum F_N; sum |F_T|; contacts at the Coulomb limit |F_T| = mu F_N
 ------------------------------------------------------------------------- */
 
 double FixContactTriPenalty::compute_vector(int n)
@@ -777,7 +862,8 @@ double FixContactTriPenalty::compute_vector(int n)
     return res;
   } else if (n == 12) loc = tool_work;
   else if (n == 13) loc = q_tool_lost;
-  else loc = contact_diss;
+  else if (n == 14) loc = contact_diss;
+  else loc = decomp[(n - 15) / NDECOMP][(n - 15) % NDECOMP];
   MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
   return res;
 }
@@ -786,37 +872,48 @@ double FixContactTriPenalty::compute_vector(int n)
 
 void FixContactTriPenalty::grow_arrays(int nmax)
 {
-  memory->grow(fcontact, nmax, 3, "contact:fcontact");
+  memory->grow(fcontact, nmax, 6, "contact:fcontact");
+  memory->grow(ftmem, nmax, 6, "contact:ftmem");
   memory->grow(vcont, nmax, 4, "contact:vcont");
   array_atom = fcontact;
 }
 
 void FixContactTriPenalty::copy_arrays(int i, int j, int)
 {
-  for (int k = 0; k < 3; k++) fcontact[j][k] = fcontact[i][k];
+  for (int k = 0; k < 6; k++) fcontact[j][k] = fcontact[i][k];
+  for (int k = 0; k < 6; k++) ftmem[j][k] = ftmem[i][k];
   for (int k = 0; k < 4; k++) vcont[j][k] = vcont[i][k];
 }
 
-// per atom: contact force of the last step (3) and the velocity it used (3 + valid flag)
+// per atom: contact force of the last step (3) and the velocity it used (3 + valid flag),
+// the F_N, |F_T|, feature columns (3); with friction memory its state (6)
 int FixContactTriPenalty::pack_exchange(int i, double *buf)
 {
   for (int k = 0; k < 3; k++) buf[k] = fcontact[i][k];
   for (int k = 0; k < 4; k++) buf[3 + k] = vcont[i][k];
-  return 7;
+  for (int k = 0; k < 3; k++) buf[7 + k] = fcontact[i][3 + k];
+  if (!fmemory) return 10;
+  for (int k = 0; k < 6; k++) buf[10 + k] = ftmem[i][k];
+  return 16;
 }
 
 int FixContactTriPenalty::unpack_exchange(int nlocal, double *buf)
 {
   for (int k = 0; k < 3; k++) fcontact[nlocal][k] = buf[k];
   for (int k = 0; k < 4; k++) vcont[nlocal][k] = buf[3 + k];
-  return 7;
+  for (int k = 0; k < 3; k++) fcontact[nlocal][3 + k] = buf[7 + k];
+  for (int k = 0; k < 6; k++) ftmem[nlocal][k] = fmemory ? buf[10 + k] : 0.0;
+  return fmemory ? 16 : 10;
 }
 
+// the restart record: its length, then pack_exchange's values.  Files of the earlier
+// layout (length 8: force and velocity only) and files written without friction memory
+// read back with the missing values zero (a contact of a memory run starts from f_old = 0)
 int FixContactTriPenalty::pack_restart(int i, double *buf)
 {
-  buf[0] = 8;
+  buf[0] = size_restart(i);
   pack_exchange(i, &buf[1]);
-  return 8;
+  return size_restart(i);
 }
 
 void FixContactTriPenalty::unpack_restart(int nlocal, int nth)
@@ -824,17 +921,25 @@ void FixContactTriPenalty::unpack_restart(int nlocal, int nth)
   double **extra = atom->extra;
   int m = 0;
   for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  unpack_exchange(nlocal, &extra[nlocal][m + 1]);
+  const int len = static_cast<int>(extra[nlocal][m]);
+  const double *buf = &extra[nlocal][m + 1];
+  for (int k = 0; k < 6; k++) fcontact[nlocal][k] = ftmem[nlocal][k] = 0.0;
+  for (int k = 0; k < 3; k++) fcontact[nlocal][k] = buf[k];
+  for (int k = 0; k < 4; k++) vcont[nlocal][k] = buf[3 + k];
+  if (len >= 11)
+    for (int k = 0; k < 3; k++) fcontact[nlocal][3 + k] = buf[7 + k];
+  if (len >= 17 && fmemory)
+    for (int k = 0; k < 6; k++) ftmem[nlocal][k] = buf[10 + k];
 }
 
 int FixContactTriPenalty::size_restart(int)
 {
-  return 8;
+  return fmemory ? 17 : 11;
 }
 
 int FixContactTriPenalty::maxsize_restart()
 {
-  return 8;
+  return fmemory ? 17 : 11;
 }
 
 int FixContactTriPenalty::pack_reverse_comm(int n, int first, double *buf)
@@ -876,5 +981,5 @@ void FixContactTriPenalty::restart(char *buf)
 
 double FixContactTriPenalty::memory_usage()
 {
-  return (double) atom->nmax * 7 * sizeof(double) + elem.size() * sizeof(double);
+  return (double) atom->nmax * 16 * sizeof(double) + elem.size() * sizeof(double);
 }

@@ -73,6 +73,9 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double etool, pfac, dfac, sfac, vreg;
   int vreg_set;
   int stick = 1;              // 1: friction limited to the force that stops the trial sliding
+  int fmemory = 0;            // 1: friction with memory (elastic predictor, return to the cone)
+  double tfac = 0.1;          // alpha of the friction predictor (tangential stiffness alpha m/dt^2)
+  int stick_given = 0, tfac_given = 0, friction_given = 0;
   // friction coefficient: constant, table mu(T), or an equal-style variable of an internal T
   enum { MU_CONST, MU_TABLE, MU_VARIABLE };
   int mustyle;
@@ -100,7 +103,16 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double dt_last;                 // time step of the last contact evaluation
   double dtfac = 0.15;            // fraction (times cfl) of the spring's stability limit
   double dt_crit;                 // min stability limit of the spring, particles in or near contact (this rank)
-  double **fcontact;              // per-atom contact force (of the last step)
+  double **fcontact;              // per-atom contact force (of the last step), F_N, |F_T|, feature
+  double **ftmem;                 // per-atom friction state (memory law): F_T of the last step, and
+                                  // the f_old that step used (a setup evaluation repeats that step)
+  // decomposition by tool feature (rake, edge, flank, other), this step and rank:
+  // normal force on the tool x y, friction force on the tool x y, contacts, sum F_N,
+  // sum |F_T|, contacts at the Coulomb limit
+  enum { FEAT_RAKE, FEAT_EDGE, FEAT_FLANK, FEAT_OTHER, NFEAT };
+  enum { NDECOMP = 8 };
+  double decomp[NFEAT][NDECOMP];
+  std::vector<int> elem_feature;  // per element: FEAT_* (insert tags; STL tools: FEAT_OTHER)
   double **vcont;                 // per-atom velocity the contact used last step, valid flag
   double *qbuf;                   // tool heat to reverse communicate
   int nmax_buf;

@@ -351,6 +351,12 @@ struct ContactIn {
   double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
   double dt_stick = 0.0;                // > 0: stick limit over this step (see penalty_contact)
   double f_other[3] = {0.0, 0.0, 0.0};  // the other forces on the particle (pair, body) this step
+  // friction with memory (friction_memory = 1, see penalty_contact; the fields above that
+  // concern the static-limit law, v_reg and dt_stick, are not used then)
+  int friction_memory = 0;              // 1: elastic predictor + return to the Coulomb cone
+  double tfac = 0.1;                    // alpha of the predictor: tangential stiffness alpha m/dt^2
+  double dt = 0.0;                      // time step of the predictor
+  double ft_old[3] = {0.0, 0.0, 0.0};   // friction force of the particle's last step (0: new contact)
 };
 
 struct ContactOut {
@@ -361,8 +367,9 @@ struct ContactOut {
   double delta;         // penetration, eq. 9 (also when inactive)
   double delta_dot;     // penetration rate -n.(v - vtool)
   double vslide;        // sliding speed |v_rel,t|, eq. 14
-  double fric_power;    // max(0, -F_T . v_rel,t) (heat source of friction)
+  double fric_power;    // friction heat source: max(0, -F_T . v_rel,t); memory law: mu F_N times the slip rate
   double k, damp;       // stiffness and damping coefficient used
+  int slip;             // 1 if the friction is at the Coulomb limit mu F_N (diagnostics)
 };
 
 /* ----------------------------------------------------------------------
@@ -394,11 +401,39 @@ struct ContactOut {
        never reverses the sliding in a step (no chattering).  Linear
        regularisation below v_reg (v_reg <= 0: plain Coulomb).
      f = F_N + F_T                                           (eqs. 16-17)
+   friction with memory (in.friction_memory = 1; LS-DYNA, the IWF GPU code):
+     f_o = f_old - (f_old.n) n       (last step's friction force, projected to the tangent plane)
+     f* = f_o - alpha m v_t/dt       (elastic predictor: a tangential spring of stiffness
+                                      alpha m/dt^2 stretched by the step's sliding v_t dt)
+     F_T = f*                        if |f*| <= mu F_N (stick)
+         = mu F_N f* / |f*|          otherwise (slip: return to the Coulomb cone)
+     F_T = 0 while F_N <= 0; the caller keeps F_T as the particle's f_old of the next step
+     and resets it to 0 when the contact ends.  Friction heat: the friction force times the
+     slip rate (|f*| - mu F_N) dt/(alpha m), i.e. mu F_N |v_t| in steady sliding and 0 while
+     the tangential spring only stretches (stick).  v_reg and dt_stick are not used.
 ------------------------------------------------------------------------- */
 
+SPHCUT_INLINE void memory_friction(const ContactIn &in, double fn, const double *vt, ContactOut &out)
+{
+  if (!(in.mu > 0.0) || !(fn > 0.0) || !(in.dt > 0.0) || !(in.mass > 0.0)) return;    // out.ft = 0
+  const double fon = dot3(in.ft_old, in.n);
+  const double kdt = in.tfac * in.mass / in.dt;    // stiffness alpha m/dt^2 times dt
+  double ts[3];
+  for (int k = 0; k < 3; k++) ts[k] = in.ft_old[k] - fon * in.n[k] - kdt * vt[k];
+  const double tsl = len3(ts), fmax = in.mu * fn;
+  if (tsl > fmax) {
+    for (int k = 0; k < 3; k++) out.ft[k] = fmax * ts[k] / tsl;
+    out.slip = 1;
+    out.fric_power = fmax * (tsl - fmax) / kdt;
+  } else {
+    for (int k = 0; k < 3; k++) out.ft[k] = ts[k];
+  }
+}
+
+// the particle - tool pair: eqs. 9-17 as described above penalty_contact's comment
 SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
 {
-  out.active = 0;
+  out.active = out.slip = 0;
   out.fn = out.vslide = out.fric_power = 0.0;
   for (int k = 0; k < 3; k++) out.f[k] = out.ft[k] = 0.0;
 
@@ -421,6 +456,11 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   axpy3(vrel, -vn, in.n, vt);
   const double vs = len3(vt);
   out.vslide = vs;
+  if (in.friction_memory) {
+    memory_friction(in, fn, vt, out);
+    for (int k = 0; k < 3; k++) out.f[k] = fn * in.n[k] + out.ft[k];
+    return;
+  }
   // trial sliding velocity w over the step without friction
   double w[3] = {vt[0], vt[1], vt[2]};
   if (in.dt_stick > 0.0) {
@@ -431,9 +471,13 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   if (in.mu > 0.0 && fn > 0.0 && ws > 0.0) {    // no friction without compression
     const double ramp = (in.v_reg > 0.0 && ws < in.v_reg) ? ws / in.v_reg : 1.0;
     double ftmag = in.mu * fn * ramp;
+    out.slip = ramp == 1.0;
     if (in.dt_stick > 0.0) {
       const double fstick = in.mass * ws / in.dt_stick;
-      if (ftmag > fstick) ftmag = fstick;
+      if (ftmag > fstick) {
+        ftmag = fstick;
+        out.slip = 0;
+      }
     }
     for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * w[k] / ws;
     // power of the friction force against the sliding (> 0: dissipated into heat)
