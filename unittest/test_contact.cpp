@@ -391,24 +391,6 @@ TEST(FrictionMemory, StickSlipThreshold)
   }
 }
 
-// the friction keywords: bad values and combinations are named errors
-TEST(FrictionMemory, BadInput)
-{
-  write_plate();
-  Lammps l;
-  const double x0[3] = {0.0, 0.005, 0.0};
-  one_particle(l, 2, x0);
-  const std::string fix = "fix tool all contact/tri-penalty stl plate.stl ";
-  EXPECT_TRUE(l.error_contains(fix + "friction sticky", "friction must be static, coulomb or memory, got sticky"));
-  EXPECT_TRUE(l.error_contains(fix + "friction memory tfac 0", "tfac must be in (0,1], got 0"));
-  EXPECT_TRUE(l.error_contains(fix + "friction memory tfac 2", "tfac must be in (0,1], got 2"));
-  EXPECT_TRUE(l.error_contains(fix + "tfac 0.2", "tfac applies to friction memory only"));
-  EXPECT_TRUE(l.error_contains(fix + "friction memory stick yes", "stick applies to friction static/coulomb"));
-  EXPECT_TRUE(l.error_contains(fix + "friction memory vreg 0.1", "vreg applies to friction static/coulomb"));
-  EXPECT_TRUE(l.error_contains(fix + "friction static stick no", "give friction or stick, not both"));
-  EXPECT_TRUE(l.error_contains(fix + "friction", "keyword friction needs 1 value(s)"));
-}
-
 // the state resets when the contact ends: a particle sliding on the plate with the memory
 // law, lifted off and put back at rest, starts from f_old = 0 (no friction at rest)
 TEST(FrictionMemory, ResetWhenContactEnds)
@@ -1244,6 +1226,15 @@ TEST(BadInput, ContactFix)
                                "Expected floating point parameter instead of 'x'"));
   EXPECT_TRUE(l.error_contains(fix + "insert rake 50 clearance 45 radius 0 rake_length 1e-3 flank_length 1e-3",
                                "wedge angle 90 - alpha - gamma must be positive"));
+  // the friction law keywords
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction sticky", "friction must be static, coulomb or memory, got sticky"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory tfac 0", "tfac must be in (0,1], got 0"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory tfac 2", "tfac must be in (0,1], got 2"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl tfac 0.2", "tfac applies to friction memory only"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory stick yes", "stick applies to friction static/coulomb"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory vreg 0.1", "vreg applies to friction static/coulomb"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction static stick no", "give friction or stick, not both"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction", "keyword friction needs 1 value(s)"));
   // checked at init
   l.cmds({fix + "stl plate.stl velocity v_vx 0 0"});
   EXPECT_TRUE(l.error_contains("run 0", "velocity variable vx does not exist"));
