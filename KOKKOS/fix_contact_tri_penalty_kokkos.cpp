@@ -26,6 +26,7 @@
 #include "error.h"
 #include "fix_heat_fmfs.h"
 #include "fix_sph_jc_thermal_kokkos.h"
+#include "memory_kokkos.h"
 #include "neigh_list_kokkos.h"
 #include "neighbor.h"
 #include "output.h"
@@ -44,9 +45,11 @@ using namespace FixConst;
 namespace {
 
 // the sums of the contact kernel: R_SUM.. are added, R_MAXPEN maximised, R_DTCRIT minimised
+// R_DECOMP..: the decomposition by tool feature (FixContactTriPenalty::decomp, NFEAT x NDECOMP)
 enum {
   R_FX = 0, R_FY, R_FZ, R_WORK, R_DISS, R_FRIC, R_NCONT, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC,
-  R_WOLD, R_DOLD, R_MAXPEN, R_DTCRIT, NRED
+  R_WOLD, R_DOLD, R_DECOMP, R_MAXPEN = R_DECOMP + FixContactTriPenalty::NFEAT * FixContactTriPenalty::NDECOMP,
+  R_DTCRIT, NRED
 };
 
 template <class DeviceType> struct ContactKernel {
@@ -62,15 +65,17 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_float_1d_const rmass, mass;
   typename AT::t_double_2d state;
   typename AT::t_double_1d qtw;
+  typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
   typename AT::t_neighbors_2d neighbors;
   typename AT::t_int_1d_const numneigh;
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
+  Kokkos::View<const int *, mem> feature;    // tool feature of each element
   sphcut::TriBinView view;
   int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, dim, setup, stick, nmu, ntp, kernel;
-  int has_heat, tool_particles, lumped;
+  int has_heat, tool_particles, lumped, fmemory;
   double disp[3], vtool[3];
-  double dt, dt_force, etool, pfac, dfac, sfac, vreg, mu0, eta, split;
+  double dt, dt_force, etool, pfac, dfac, sfac, vreg, mu0, eta, split, tfac;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -98,17 +103,19 @@ template <class DeviceType> struct ContactKernel {
   {
     using F = FixSPHJCThermal;
     double *s = &state(i, 0);
-    double *fc = s + F::FCONT, *vc = s + F::VCONT;
+    double *fc = s + F::FCONT, *vc = s + F::VCONT, *fm = s + F::FMEM;
     for (int k = 0; k < dim; k++) {
       r[R_WOLD] += fc[k] * vtool[k];
       r[R_DOLD] += fc[k] * (vtool[k] - v(i, k));
     }
     fc[0] = fc[1] = fc[2] = 0.0;
+    for (int k = 0; k < 6; k++) fout(i, k) = 0.0;
     qtw(i) = 0.0;
     if (!setup) {
       for (int k = 0; k < 3; k++) vc[k] = v(i, k);
       vc[3] = 1.0;
     }
+    if (fmemory && !setup) sphcut::memory_friction_step(fm);
     if (!(mask(i) & groupbit) || (mask(i) & toolbit) ||
         sphcut::role_from_mask(mask(i), fixtoolbit, fixclampbit) == F::TOOL)
       return;
@@ -117,7 +124,8 @@ template <class DeviceType> struct ContactKernel {
     const double xt[3] = {x(i, 0) - disp[0], x(i, 1) - disp[1], dim == 2 ? 0.0 : x(i, 2) - disp[2]};
     sphcut::ContactIn in;
     double q[3];
-    if (!sphcut::tool_surface(view, xt, hi, in.d, in.n, q)) return;
+    const int best = sphcut::tool_surface(view, xt, hi, in.d, in.n, q);
+    if (best < 0) return;
     const double mi = use_rmass ? rmass(i) : mass(it);
     const double dpi = dp(it) > 0.0 ? dp(it) : hi / sfac;
     {
@@ -131,7 +139,9 @@ template <class DeviceType> struct ContactKernel {
     }
     if (0.5 * hi / sfac - in.d <= 0.0) return;
     double vuse[3] = {v(i, 0), v(i, 1), v(i, 2)};
-    if (setup && vc[3] > 0.0 && v(i, 0) == s[F::VEND] && v(i, 1) == s[F::VEND + 1] && v(i, 2) == s[F::VEND + 2])
+    const bool repeat =
+        setup && vc[3] > 0.0 && v(i, 0) == s[F::VEND] && v(i, 1) == s[F::VEND + 1] && v(i, 2) == s[F::VEND + 2];
+    if (repeat)
       for (int k = 0; k < 3; k++) vuse[k] = vc[k];
     for (int k = 0; k < 3; k++) {
       in.x[k] = x(i, k);
@@ -153,16 +163,43 @@ template <class DeviceType> struct ContactKernel {
     in.v_reg = vreg;
     in.dt_stick = stick ? dt_force : 0.0;
     for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f(i, k) : 0.0;
+    if (fmemory) {
+      in.friction_memory = 1;
+      in.tfac = tfac;
+      in.dt = dt_force;
+      in.dt_stick = 0.0;
+      sphcut::memory_friction_input(fm, !setup, repeat, in.ft_old);
+    }
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) return;
     r[R_NCONT] += 1.0;
+    if (fmemory && !setup)
+      for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
+    {
+      // decomposition by the tool feature of the nearest element (forces on the tool)
+      const int feat = feature(best);
+      double *dc = r + R_DECOMP + feat * FixContactTriPenalty::NDECOMP;
+      const double ftm = sphcut::len3(out.ft);
+      for (int k = 0; k < 2; k++) {
+        dc[k] -= out.fn * in.n[k];
+        dc[2 + k] -= out.ft[k];
+      }
+      dc[4] += 1.0;
+      dc[5] += out.fn;
+      dc[6] += ftm;
+      dc[7] += out.slip;
+      fout(i, 3) = out.fn;
+      fout(i, 4) = ftm;
+      fout(i, 5) = feat + 1;
+    }
     const double pen = out.delta / (0.5 * hi / sfac);
     if (pen > r[R_MAXPEN]) r[R_MAXPEN] = pen;
     for (int k = 0; k < 3; k++) s[F::XSPH + k] = 0.0;    // no XSPH drift in contact (CPU fix)
     for (int k = 0; k < dim; k++) {
       f(i, k) += out.f[k];
       fc[k] = out.f[k];
+      fout(i, k) = out.f[k];
       r[R_FX + k] -= out.f[k];
       r[R_WORK] += out.f[k] * vtool[k];
       r[R_DISS] += out.f[k] * (vtool[k] - v(i, k));
@@ -230,6 +267,16 @@ FixContactTriPenaltyKokkos<DeviceType>::FixContactTriPenaltyKokkos(LAMMPS *lmp, 
   execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
   datamask_read = X_MASK | V_MASK | F_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK;
   datamask_modify = F_MASK;
+  // the per-atom output lives in a DualView (grown in post_force)
+  memory->destroy(fcontact);
+  fcontact = nullptr;
+  nmax_out = 0;
+}
+
+template <class DeviceType> FixContactTriPenaltyKokkos<DeviceType>::~FixContactTriPenaltyKokkos()
+{
+  memoryKK->destroy_kokkos(k_fout, fcontact);
+  fcontact = nullptr;    // the base destructor must not free it
 }
 
 // restart files match fixes by ID and style: the /kk fix goes by the CPU style's name
@@ -281,6 +328,9 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::upload(
   m.resize(nmu + 1, 0.0);
   d_mut = sphcut::to_device<double, DeviceType>(t.data(), nmu + 1, "contact:mut");
   d_muv = sphcut::to_device<double, DeviceType>(m.data(), nmu + 1, "contact:muv");
+  std::vector<int> feat(elem_feature);
+  feat.resize(bins.elem.size() / (nvert == 3 ? 9 : 6) + 1, FEAT_OTHER);
+  d_feature = sphcut::to_device<int, DeviceType>(feat.data(), (int) feat.size(), "contact:feature");
 }
 
 /* setup as the CPU fix (host), then the forces of the setup step on the device */
@@ -309,6 +359,14 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   fixkk->k_state.template sync<DeviceType>();
   if ((int) k_qtw.extent(0) < atom->nmax) k_qtw = DAT::tdual_double_1d("contact:qtw", atom->nmax);
   k_qtw.template sync<DeviceType>();
+  if (atom->nmax > nmax_out) {
+    nmax_out = atom->nmax;
+    k_fout.template sync<DeviceType>();
+    k_fout.template modify<DeviceType>();
+    memoryKK->grow_kokkos(k_fout, fcontact, nmax_out, 6, "contact:fout");
+    array_atom = fcontact;
+  }
+  k_fout.template sync<DeviceType>();
   const double dt = update->dt;
   if (!update->setupflag || dt_last <= 0.0) dt_last = dt;
 
@@ -322,6 +380,10 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.mass = atomKK->k_mass.view<DeviceType>();
   k.state = fixkk->k_state.template view<DeviceType>();
   k.qtw = k_qtw.template view<DeviceType>();
+  k.fout = k_fout.template view<DeviceType>();
+  k.feature = d_feature;
+  k.fmemory = fmemory;
+  k.tfac = tfac;
   const int tool_particles = toolbit && list;
   if (tool_particles) {
     auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
@@ -368,7 +430,10 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   Kokkos::parallel_reduce(sphcut::range<DeviceType>(0, atom->nlocal), k, r);
   fixkk->k_state.template modify<DeviceType>();
   k_qtw.template modify<DeviceType>();
+  k_fout.template modify<DeviceType>();
   atomKK->modified(execution_space, F_MASK);
+  for (int ft = 0; ft < NFEAT; ft++)
+    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = r[R_DECOMP + ft * NDECOMP + c];
 
   for (int d = 0; d < 3; d++) ftool[d] = r[R_FX + d];
   work_rate = r[R_WORK];
@@ -455,10 +520,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::end_of_
   if (toolbit) tool_velocity_device();
   if (write_every && update->ntimestep % write_every == 0) write_geometry();
   // the per-atom contact force (f_ID) on the host on output steps and every peratom_freq steps
-  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) {
-    fixkk->k_state.sync_host();
-    copy_output();
-  }
+  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_fout.sync_host();
 }
 
 // the rigid tool particles move with the tool

@@ -36,6 +36,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   typedef DeviceType device_type;
   typedef ArrayTypes<DeviceType> AT;
   FixContactTriPenaltyKokkos(class LAMMPS *, int, char **);
+  ~FixContactTriPenaltyKokkos() override;
   void post_constructor() override;
   void init() override;
   void setup(int) override;
@@ -56,6 +57,8 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   Kokkos::View<double *, mem> d_h, d_dp, d_hij;  // per type (h, spacing), per type pair (h)
   Kokkos::View<double *, mem> d_mut, d_muv;      // mu(T) table
   DAT::tdual_double_1d k_qtw;                    // tool heat per kernel weight of each contact particle
+  DAT::tdual_double_2d k_fout;                   // per-atom output (host view = fcontact)
+  Kokkos::View<int *, mem> d_feature;            // tool feature of each element
   void upload();
   void tool_velocity_device();
   void tool_heat_gather();

@@ -50,7 +50,8 @@ const std::vector<DumpSPH::Field> &DumpSPH::fields()
       {"surface_nx", 1, S::NX + 1},        {"surface_ny", 1, S::NY + 1},
       {"surface_nz", 1, S::NZ + 1},
       {"fcontact_x", 2, 1},                {"fcontact_y", 2, 2},
-      {"fcontact_z", 2, 3}};
+      {"fcontact_z", 2, 3},                {"fcontact_n", 2, 4},
+      {"fcontact_t", 2, 5},                {"contact_feature", 2, 6}};
   return f;
 }
 

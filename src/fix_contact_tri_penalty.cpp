@@ -56,6 +56,8 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     list(nullptr), fix(nullptr), pair(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
+  for (int f = 0; f < NFEAT; f++)
+    for (int c = 0; c < NDECOMP; c++) decomp[f][c] = 0.0;
   std::string geom;
   std::vector<std::string> gargs;
   sphcut::StlTransform tf;
@@ -148,6 +150,23 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       if (v == "yes") stick = 1;
       else if (v == "no") stick = 0;
       else error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
+      stick_given = 1;
+      iarg += 2;
+    } else if (kw == "friction") {
+      need(1, kw);
+      const std::string v = arg[iarg + 1];
+      if (v == "static") stick = 1;
+      else if (v == "coulomb") stick = 0;
+      else if (v == "memory") fmemory = 1;
+      else error->all(FLERR, "Fix contact/tri-penalty: friction must be static, coulomb or memory, got {}", v);
+      if (v != "memory") fmemory = 0;
+      friction_given = 1;
+      iarg += 2;
+    } else if (kw == "tfac") {
+      need(1, kw);
+      tfac = num(1);
+      if (tfac <= 0.0 || tfac > 1.0) error->all(FLERR, "Fix contact/tri-penalty: tfac must be in (0,1], got {}", tfac);
+      tfac_given = 1;
       iarg += 2;
     } else if (kw == "mu") {
       need(1, kw);
@@ -226,6 +245,15 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     }
   }
   if (geom.empty()) error->all(FLERR, "Fix contact/tri-penalty: no tool geometry (keyword stl or insert)");
+  if (fmemory && stick_given)
+    error->all(FLERR, "Fix contact/tri-penalty: stick applies to friction static/coulomb, not to friction memory");
+  if (stick_given && friction_given)
+    error->all(FLERR, "Fix contact/tri-penalty: give friction or stick, not both (stick yes = friction static, "
+               "stick no = friction coulomb)");
+  if (fmemory && vreg_set)
+    error->all(FLERR, "Fix contact/tri-penalty: vreg applies to friction static/coulomb, not to friction memory");
+  if (!fmemory && tfac_given)
+    error->all(FLERR, "Fix contact/tri-penalty: tfac applies to friction memory only");
   if (geom == "insert" && has_transform)
     error->all(FLERR, "Fix contact/tri-penalty: scale and rotate apply to stl tools only (use move)");
   if (!split_given && toolbit) split_auto = 1;
@@ -283,7 +311,12 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
           else if (gargs[k] == "width") ip.width = v;
           else if (gargs[k] == "segments") ip.arc_segments = (int) v;
         }
-        elem = sphcut::make_cutting_insert(ip, domain->dimension);
+        std::vector<int> tags;
+        elem = sphcut::make_cutting_insert(ip, domain->dimension, &tags);
+        for (int t : tags)
+          elem_feature.push_back(t == sphcut::INSERT_RAKE ? FEAT_RAKE
+                                 : t == sphcut::INSERT_EDGE ? FEAT_EDGE
+                                 : t == sphcut::INSERT_FLANK ? FEAT_FLANK : FEAT_OTHER);
         for (size_t k = 0; k < elem.size(); k += 3)
           for (int c = 0; c < 3; c++) elem[k + c] += (c < 2 || nvert == 3) ? tf.shift[c] : 0.0;
       }
@@ -302,13 +335,17 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   MPI_Bcast(&n, 1, MPI_LONG, 0, world);
   elem.resize(n);
   MPI_Bcast(elem.data(), (int) n, MPI_DOUBLE, 0, world);
+  // feature of each element (only the insert has tags: an STL tool is all FEAT_OTHER)
+  const long nel = n / (nvert == 3 ? 9 : 6);
+  if ((long) elem_feature.size() != nel) elem_feature.assign(nel, FEAT_OTHER);
+  MPI_Bcast(elem_feature.data(), (int) nel, MPI_INT, 0, world);
 
   vector_flag = 1;
-  size_vector = 15;
+  size_vector = 15 + NFEAT * NDECOMP;
   global_freq = 1;
   extvector = 0;
   peratom_flag = 1;
-  size_peratom_cols = 3;
+  size_peratom_cols = 6;
   peratom_freq = 1;
   restart_global = 1;
   comm_reverse = 1;
@@ -468,7 +505,7 @@ void FixContactTriPenalty::clear_history()
 {
   using F = FixSPHJCThermal;
   for (int i = 0; i < atom->nlocal; i++)
-    for (int k = F::FCONT; k < F::VCONT + 4; k++) fix->state[i][k] = 0.0;
+    for (int k = F::FCONT; k < F::FMEM + 6; k++) fix->state[i][k] = 0.0;
 }
 
 /* ----------------------------------------------------------------------
@@ -546,10 +583,13 @@ void FixContactTriPenalty::post_force(int)
     }
     for (int i = 0; i < nall; i++) qbuf[i] = 0.0;
   }
+  grow_output();
   for (int k = 0; k < 3; k++) ftool[k] = 0.0;
   fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
   dt_crit = 1.0e300;
+  for (int ft = 0; ft < NFEAT; ft++)
+    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
 
   // energy over the step with the weights of velocity Verlet: the particle gains
@@ -563,19 +603,24 @@ void FixContactTriPenalty::post_force(int)
     }
 
   for (int i = 0; i < nlocal; i++) {
-    double *fc = &st[i][F::FCONT], *vc = &st[i][F::VCONT];
+    double *fc = &st[i][F::FCONT], *vc = &st[i][F::VCONT], *fm = &st[i][F::FMEM];
     fc[0] = fc[1] = fc[2] = 0.0;
+    for (int k = 0; k < 6; k++) fcontact[i][k] = 0.0;
     if (!update->setupflag) {
       for (int k = 0; k < 3; k++) vc[k] = atom->v[i][k];
       vc[3] = 1.0;
     }
+    // friction memory: a step takes the last step's friction force as f_old, remembers it
+    // as its input and zeroes the state (set again below if the particle is in contact)
+    if (fmemory && !update->setupflag) sphcut::memory_friction_step(fm);
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const int it = type[i];
     const double h = pair->smoothing_length(it);
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
     sphcut::ContactIn in;
     double qs[3];
-    if (!sphcut::tool_surface(view, xt, h, in.d, in.n, qs)) continue;
+    const int best = sphcut::tool_surface(view, xt, h, in.d, in.n, qs);
+    if (best < 0) continue;
     const double mi = rmass ? rmass[i] : mass[it];
     const double dpi = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
     {
@@ -587,9 +632,14 @@ void FixContactTriPenalty::post_force(int)
     // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
     // run (restart, or a second run with unchanged velocities) the one of the last step
     const double *vuse = atom->v[i];
-    if (update->setupflag && vc[3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
-        atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2])
-      vuse = vc;
+    const bool repeat = update->setupflag && vc[3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
+        atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2];
+    if (repeat) vuse = vc;
+    // f_old of the memory law: at a step its input set above; a setup evaluation that repeats
+    // the last step (a continued run) uses that step's input if the particle had friction then,
+    // else the current state (zero after a contact ended)
+    double ft_in[3] = {0.0, 0.0, 0.0};
+    if (fmemory) sphcut::memory_friction_input(fm, !update->setupflag, repeat, ft_in);
     for (int k = 0; k < 3; k++) {
       in.x[k] = x[i][k];
       in.v[k] = vuse[k];
@@ -612,10 +662,36 @@ void FixContactTriPenalty::post_force(int)
     // included) and never exceeds the force that stops it: static friction up to mu F_N
     in.dt_stick = stick ? dt_force : 0.0;
     for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f[i][k] : 0.0;
+    if (fmemory) {
+      in.friction_memory = 1;
+      in.tfac = tfac;
+      in.dt = dt_force;
+      in.dt_stick = 0.0;
+      for (int k = 0; k < 3; k++) in.ft_old[k] = ft_in[k];
+    }
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) continue;
     ncontact++;
+    if (fmemory && !update->setupflag)
+      for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
+    // decomposition by the tool feature of the closest element (forces on the tool)
+    {
+      const int feat = elem_feature[best];
+      double *dc = decomp[feat];
+      const double ftm = sphcut::len3(out.ft);
+      for (int k = 0; k < 2; k++) {
+        dc[k] -= out.fn * in.n[k];
+        dc[2 + k] -= out.ft[k];
+      }
+      dc[4] += 1.0;
+      dc[5] += out.fn;
+      dc[6] += ftm;
+      dc[7] += out.slip;
+      fcontact[i][3] = out.fn;
+      fcontact[i][4] = ftm;
+      fcontact[i][5] = feat + 1;
+    }
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
     // no XSPH drift in contact: the spring force does work with the velocity v that the
     // kinetic energy sees, so the particle must move with v (a smoothed drift velocity
@@ -624,6 +700,7 @@ void FixContactTriPenalty::post_force(int)
     for (int k = 0; k < dim; k++) {
       f[i][k] += out.f[k];
       fc[k] = out.f[k];
+      fcontact[i][k] = out.f[k];
       ftool[k] -= out.f[k];
       work_rate += out.f[k] * vtool[k];
       // friction + dashpot (+ spring) power
@@ -695,12 +772,11 @@ void FixContactTriPenalty::post_force(int)
     tool_work += 0.5 * dt * (w_old + work_rate);
     contact_diss += 0.5 * dt * (d_old + diss_rate);
   }
-  copy_output();
 }
 
 /* ----------------------------------------------------------------------
-   per-atom output (f_ID[1..3]): the contact force of this step, copied from the state after
-   the contact (valid until the next reneighbouring, i.e. at every output of the step)
+   per-atom output (f_ID[1..6]): contact force, F_N, |F_T| and feature of this step, written by
+   post_force (valid until the next reneighbouring, i.e. at every output of the step)
 ------------------------------------------------------------------------- */
 
 void FixContactTriPenalty::grow_output()
@@ -708,18 +784,10 @@ void FixContactTriPenalty::grow_output()
   if (atom->nmax <= nmax_out) return;
   nmax_out = atom->nmax;
   memory->destroy(fcontact);
-  memory->create(fcontact, nmax_out, 3, "contact:fcontact");
-  for (int i = 0; i < nmax_out; i++) fcontact[i][0] = fcontact[i][1] = fcontact[i][2] = 0.0;
+  memory->create(fcontact, nmax_out, 6, "contact:fcontact");
+  for (int i = 0; i < nmax_out; i++)
+    for (int k = 0; k < 6; k++) fcontact[i][k] = 0.0;
   array_atom = fcontact;
-}
-
-void FixContactTriPenalty::copy_output()
-{
-  using F = FixSPHJCThermal;
-  grow_output();
-  double **st = fix->state;
-  for (int i = 0; i < atom->nlocal; i++)
-    for (int k = 0; k < 3; k++) fcontact[i][k] = st[i][F::FCONT + k];
 }
 
 /* ---------------------------------------------------------------------- */
@@ -760,7 +828,11 @@ void FixContactTriPenalty::write_geometry()
    to the contact radius, 13 work done by the tool, 14 friction heat not
    assigned (no heat fix / tool particle), 15 energy dissipated at the contact
    (friction and dashpot, sum F.(v_tool - v) integrated): work of the tool =
-   kinetic + internal energy change of the particles + this
+   kinetic + internal energy change of the particles + this;
+   16-47 the decomposition by tool feature, 8 values each for rake (16-23),
+   edge (24-31), flank (32-39), other (40-47: back face, STL tools): normal
+   force on the tool x, y; friction force on the tool x, y; contacts;
+   sum F_N; sum |F_T|; contacts at the Coulomb limit |F_T| = mu F_N
 ------------------------------------------------------------------------- */
 
 double FixContactTriPenalty::compute_vector(int n)
@@ -778,7 +850,8 @@ double FixContactTriPenalty::compute_vector(int n)
     return res;
   } else if (n == 12) loc = tool_work;
   else if (n == 13) loc = q_tool_lost;
-  else loc = contact_diss;
+  else if (n == 14) loc = contact_diss;
+  else loc = decomp[(n - 15) / NDECOMP][(n - 15) % NDECOMP];
   MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
   return res;
 }
@@ -825,5 +898,5 @@ void FixContactTriPenalty::restart(char *buf)
 
 double FixContactTriPenalty::memory_usage()
 {
-  return (double) nmax_out * 3 * sizeof(double) + elem.size() * sizeof(double);
+  return (double) nmax_out * 6 * sizeof(double) + elem.size() * sizeof(double);
 }

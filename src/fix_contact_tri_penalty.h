@@ -29,6 +29,9 @@ class FixHeatFMFS;
 
 class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
  public:
+  // tool features of the force decomposition (global vector elements 16-47)
+  enum { FEAT_RAKE, FEAT_EDGE, FEAT_FLANK, FEAT_OTHER, NFEAT };
+  enum { NDECOMP = 8 };
   FixContactTriPenalty(class LAMMPS *, int, char **);
   ~FixContactTriPenalty() override;
   int setmask() override;
@@ -65,6 +68,9 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double etool, pfac, dfac, sfac, vreg;
   int vreg_set;
   int stick = 1;              // 1: friction limited to the force that stops the trial sliding
+  int fmemory = 0;            // 1: friction with memory (elastic predictor, return to the cone)
+  double tfac = 0.1;          // alpha of the friction predictor (tangential stiffness alpha m/dt^2)
+  int stick_given = 0, tfac_given = 0, friction_given = 0;
   // friction coefficient: constant, table mu(T), or an equal-style variable of an internal T
   enum { MU_CONST, MU_TABLE, MU_VARIABLE };
   int mustyle;
@@ -92,10 +98,14 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double dt_last;                 // time step of the last contact evaluation
   double dtfac = 0.15;            // fraction (times cfl) of the spring's stability limit
   double dt_crit;                 // min stability limit of the spring, particles in or near contact (this rank)
-  double **fcontact;              // per-atom output: contact force of this step (copy of the state's FCONT)
+  double **fcontact;              // per-atom output of this step: contact force (3), F_N, |F_T|, feature
   int nmax_out;
   void grow_output();
-  void copy_output();
+  // decomposition by tool feature (rake, edge, flank, other), this step and rank:
+  // normal force on the tool x y, friction force on the tool x y, contacts, sum F_N,
+  // sum |F_T|, contacts at the Coulomb limit
+  double decomp[NFEAT][NDECOMP];
+  std::vector<int> elem_feature;  // per element: FEAT_* (insert tags; STL tools: FEAT_OTHER)
   double *qbuf;                   // tool heat to reverse communicate
   int nmax_buf;
   class NeighList *list;

@@ -351,6 +351,12 @@ struct ContactIn {
   double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
   double dt_stick = 0.0;                // > 0: stick limit over this step (see penalty_contact)
   double f_other[3] = {0.0, 0.0, 0.0};  // the other forces on the particle (pair, body) this step
+  // friction with memory (friction_memory = 1, see penalty_contact; the fields above that
+  // concern the static-limit law, v_reg and dt_stick, are not used then)
+  int friction_memory = 0;              // 1: elastic predictor + return to the Coulomb cone
+  double tfac = 0.1;                    // alpha of the predictor: tangential stiffness alpha m/dt^2
+  double dt = 0.0;                      // time step of the predictor
+  double ft_old[3] = {0.0, 0.0, 0.0};   // friction force of the particle's last step (0: new contact)
 };
 
 struct ContactOut {
@@ -361,8 +367,9 @@ struct ContactOut {
   double delta;         // penetration, eq. 9 (also when inactive)
   double delta_dot;     // penetration rate -n.(v - vtool)
   double vslide;        // sliding speed |v_rel,t|, eq. 14
-  double fric_power;    // max(0, -F_T . v_rel,t) (heat source of friction)
+  double fric_power;    // friction heat source: max(0, -F_T . v_rel,t); memory law: mu F_N times the slip rate
   double k, damp;       // stiffness and damping coefficient used
+  int slip;             // 1 if the friction is at the Coulomb limit mu F_N (diagnostics)
 };
 
 /* ----------------------------------------------------------------------
@@ -394,11 +401,39 @@ struct ContactOut {
        never reverses the sliding in a step (no chattering).  Linear
        regularisation below v_reg (v_reg <= 0: plain Coulomb).
      f = F_N + F_T                                           (eqs. 16-17)
+   friction with memory (in.friction_memory = 1; LS-DYNA, the IWF GPU code):
+     f_o = f_old - (f_old.n) n       (last step's friction force, projected to the tangent plane)
+     f* = f_o - alpha m v_t/dt       (elastic predictor: a tangential spring of stiffness
+                                      alpha m/dt^2 stretched by the step's sliding v_t dt)
+     F_T = f*                        if |f*| <= mu F_N (stick)
+         = mu F_N f* / |f*|          otherwise (slip: return to the Coulomb cone)
+     F_T = 0 while F_N <= 0; the caller keeps F_T as the particle's f_old of the next step
+     and resets it to 0 when the contact ends.  Friction heat: the friction force times the
+     slip rate (|f*| - mu F_N) dt/(alpha m), i.e. mu F_N |v_t| in steady sliding and 0 while
+     the tangential spring only stretches (stick).  v_reg and dt_stick are not used.
 ------------------------------------------------------------------------- */
 
+SPHCUT_INLINE void memory_friction(const ContactIn &in, double fn, const double *vt, ContactOut &out)
+{
+  if (!(in.mu > 0.0) || !(fn > 0.0) || !(in.dt > 0.0) || !(in.mass > 0.0)) return;    // out.ft = 0
+  const double fon = dot3(in.ft_old, in.n);
+  const double kdt = in.tfac * in.mass / in.dt;    // stiffness alpha m/dt^2 times dt
+  double ts[3];
+  for (int k = 0; k < 3; k++) ts[k] = in.ft_old[k] - fon * in.n[k] - kdt * vt[k];
+  const double tsl = len3(ts), fmax = in.mu * fn;
+  if (tsl > fmax) {
+    for (int k = 0; k < 3; k++) out.ft[k] = fmax * ts[k] / tsl;
+    out.slip = 1;
+    out.fric_power = fmax * (tsl - fmax) / kdt;
+  } else {
+    for (int k = 0; k < 3; k++) out.ft[k] = ts[k];
+  }
+}
+
+// the particle - tool pair: eqs. 9-17 as described above penalty_contact's comment
 SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
 {
-  out.active = 0;
+  out.active = out.slip = 0;
   out.fn = out.vslide = out.fric_power = 0.0;
   for (int k = 0; k < 3; k++) out.f[k] = out.ft[k] = 0.0;
 
@@ -421,6 +456,11 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   axpy3(vrel, -vn, in.n, vt);
   const double vs = len3(vt);
   out.vslide = vs;
+  if (in.friction_memory) {
+    memory_friction(in, fn, vt, out);
+    for (int k = 0; k < 3; k++) out.f[k] = fn * in.n[k] + out.ft[k];
+    return;
+  }
   // trial sliding velocity w over the step without friction
   double w[3] = {vt[0], vt[1], vt[2]};
   if (in.dt_stick > 0.0) {
@@ -431,9 +471,13 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   if (in.mu > 0.0 && fn > 0.0 && ws > 0.0) {    // no friction without compression
     const double ramp = (in.v_reg > 0.0 && ws < in.v_reg) ? ws / in.v_reg : 1.0;
     double ftmag = in.mu * fn * ramp;
+    out.slip = ramp == 1.0;
     if (in.dt_stick > 0.0) {
       const double fstick = in.mass * ws / in.dt_stick;
-      if (ftmag > fstick) ftmag = fstick;
+      if (ftmag > fstick) {
+        ftmag = fstick;
+        out.slip = 0;
+      }
     }
     for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * w[k] / ws;
     // power of the friction force against the sliding (> 0: dissipated into heat)
@@ -588,16 +632,38 @@ SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double r
    (tool frame).  False when no element lies within 2h.
 ------------------------------------------------------------------------- */
 
-SPHCUT_INLINE bool tool_surface(const TriBinView &g, const double *xt, double h, double &d, double *n,
-                                double *q)
+SPHCUT_INLINE int tool_surface(const TriBinView &g, const double *xt, double h, double &d, double *n,
+                               double *q)
 {
   int reg;
   const int e = tri_bin_nearest(g, xt, 2.0 * h, q, reg);
-  if (e < 0) return false;
+  if (e < 0) return -1;
   const double *v = g.elem + (g.nvert == 3 ? 9 : 6) * e;
   d = g.nvert == 3 ? contact_normal(xt, v, v + 3, v + 6, q, reg, 0, n)
                    : contact_normal_segment(xt, v, v + 3, q, reg, 0, n);
-  return true;
+  return e;
+}
+
+/* the per-particle state of friction with memory, fm[0..2] the friction force of the particle's
+   last step, fm[3..5] the f_old that step started from.  At the start of a step's evaluation
+   (not a setup) the last friction force becomes this step's input and the state is zeroed (set
+   again if the particle is in contact, so it resets when contact ends). */
+SPHCUT_INLINE void memory_friction_step(double *fm)
+{
+  for (int k = 0; k < 3; k++) {
+    fm[3 + k] = fm[k];
+    fm[k] = 0.0;
+  }
+}
+
+/* f_old of this evaluation: at a step its input (memory_friction_step); a setup evaluation that
+   repeats the last step (a continued run) uses that step's input if the particle had friction
+   then, else the current state (zero after a contact ended) */
+SPHCUT_INLINE void memory_friction_input(const double *fm, bool step, bool repeat, double *ft_in)
+{
+  const bool had = fm[0] != 0.0 || fm[1] != 0.0 || fm[2] != 0.0;
+  const int c0 = step || (repeat && had) ? 3 : 0;
+  for (int k = 0; k < 3; k++) ft_in[k] = fm[c0 + k];
 }
 
 /* the penalty spring limits the time step of a particle in contact or about to be: within 10

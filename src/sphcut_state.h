@@ -13,9 +13,10 @@
    rates           DRHO, DS(6), DU                 zeroed by the fix, added by the pair
    old rates       DRHO_O, DS_O(6), DTEMP_O, DU_O  fix (copy at the start of a step)
    XSPH, VEND      XSPH(3), VEND(3)                pair (XSPH sum), fix (v at step end)
-   attached        HELD, FCONT(3), VCONT(4)        fix heat/fmfs (conduction rate held between
+   attached        HELD, FCONT(3), VCONT(4), FMEM(6)  fix heat/fmfs (conduction rate held between
                                                    evaluations), fix contact/tri-penalty (last
-                                                   contact force; velocity it used, valid flag)
+                                                   contact force; velocity it used, valid flag;
+                                                   friction memory state)
    The attached styles keep their per-atom data here, not in arrays of their own, so that it
    migrates, sorts, restarts and (under /kk on one rank) follows the atoms on the device with
    the rest of the state.
@@ -42,13 +43,15 @@ struct StateLayout {
     HELD = VEND + 3,                        // fix heat/fmfs: temperature rate held between evaluations
     FCONT,                                  // fix contact/tri-penalty: contact force of the last step (3)
     VCONT = FCONT + 3,                      // velocity the contact used last step (3), valid flag (1)
-    NCOL = VCONT + 4
+    FMEM = VCONT + 4,                       // friction memory: friction force of the last step (3),
+                                            // the f_old that step started from (3)
+    NCOL = FMEM + 6
   };
   enum Role { WORKPIECE = 0, TOOL = 1, CLAMPED = 2 };
   // the force state is contiguous: RHO_F .. VEST+2 travel to the ghosts
   static constexpr int FORWARD_FIRST = RHO_F;
   static constexpr int NFORWARD = 1 + 6 + 1 + 3;
-  static constexpr int LAYOUT = 3;          // bump when the column layout changes (restart check)
+  static constexpr int LAYOUT = 4;          // bump when the column layout changes (restart check)
 };
 
 static_assert(StateLayout::RHO_F + StateLayout::NFORWARD == StateLayout::DRHO,

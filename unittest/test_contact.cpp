@@ -278,11 +278,14 @@ TEST(Sliding, MuOfTemperature)
   EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl mu v_mu", "needs 'tvar NAME'"));
 }
 
+namespace {
+
 // a 19 x 4 block settles on the plate, then slides: first frictionless (the centre-of-mass
 // velocity is unchanged), then with mu 0.3.  The friction on the block is mu sum F_N, and
 // sum F_N - M g = M dv_y,cm/dt, so dv_x,cm = -mu (g t + dv_y,cm) exactly; after settling
-// the vertical motion is small and the deceleration is mu g within 0.5 %.
-TEST(Sliding, BlockDecelerationMuG)
+// the vertical motion is small and the deceleration is mu g within 0.5 %.  friction: the
+// friction law keywords of the sliding phase (the default static-limit law, or memory).
+void block_deceleration(const std::string &friction, double tol_exact)
 {
   write_plate();
   const double g = 1000.0, E = 1.0e7, mu = 0.3;
@@ -301,18 +304,155 @@ TEST(Sliding, BlockDecelerationMuG)
   EXPECT_EQ(l.equal("f_tool[5]"), 19.0);    // the bottom row is in contact
   l.cmds({"velocity all set 1.0 NULL NULL sum yes units box", "run 200"});
   const double vx_free = l.equal("vcm(all,x)");
-  l.cmds({"unfix tool", "fix tool all contact/tri-penalty stl plate.stl dfac 1 mu " + num(mu)});
+  l.cmds({"unfix tool", "fix tool all contact/tri-penalty stl plate.stl dfac 1 mu " + num(mu) + friction});
   const double vx0 = l.equal("vcm(all,x)"), vy0 = l.equal("vcm(all,y)");
   l.cmd("run 500");
   const double t = 500 * 5e-6;
   const double vx1 = l.equal("vcm(all,x)"), vy1 = l.equal("vcm(all,y)");
   const double decel = (vx0 - vx1) / t, exact = mu * (g + (vy1 - vy0) / t);
-  std::printf("[ sliding  ] block: frictionless dv_x %.2e; mu %g: deceleration %.6g m/s^2, mu g %.6g (%+.3f %%), "
-              "mu (g + dv_y/t) %.6g\n",
-              vx_free - 1.0, mu, decel, mu * g, 100 * (decel - mu * g) / (mu * g), exact);
+  std::printf("[ sliding  ] block%s: frictionless dv_x %.2e; mu %g: deceleration %.6g m/s^2, mu g %.6g (%+.3f %%), "
+              "mu (g + dv_y/t) %.6g (%+.2e)\n",
+              friction.c_str(), vx_free - 1.0, mu, decel, mu * g, 100 * (decel - mu * g) / (mu * g), exact,
+              (decel - exact) / (mu * g));
   EXPECT_NEAR(vx_free, 1.0, 1e-10);
   EXPECT_NEAR(decel, mu * g, 0.005 * mu * g);
-  EXPECT_NEAR(decel, exact, 1e-6 * mu * g);
+  EXPECT_NEAR(decel, exact, tol_exact * mu * g);
+  // every bottom particle slides at the Coulomb limit: sum |F_T| = mu sum F_N (other = STL)
+  EXPECT_EQ(l.equal("f_tool[44]"), 19.0);
+  EXPECT_EQ(l.equal("f_tool[47]"), 19.0);
+  EXPECT_NEAR(l.equal("f_tool[46]"), mu * l.equal("f_tool[45]"), 1e-9 * l.equal("f_tool[46]"));
+}
+
+}    // namespace
+
+TEST(Sliding, BlockDecelerationMuG)
+{
+  block_deceleration("", 1e-6);
+}
+
+/* ----------------------------------------------------------------------
+   friction with memory (friction memory: elastic predictor f* = f_old - alpha m v_t/dt,
+   returned to the cone |F_T| <= mu F_N, f_old carried per particle).
+------------------------------------------------------------------------- */
+
+// the sliding block of BlockDecelerationMuG with the memory law: it reaches the Coulomb
+// limit at once (alpha m v/dt >> mu F_N) and decelerates at mu g
+TEST(FrictionMemory, BlockDecelerationMuG)
+{
+  block_deceleration(" friction memory", 1e-6);
+}
+
+// one particle at normal equilibrium pushed along the plate by f (fix addforce, ramped up over
+// 300 steps, 15 periods of the tangential spring k_t = alpha m/dt^2): below mu m g the spring
+// holds it where it carries f (x = f/k_t), with no friction heat; above mu m g it slides at
+// (f - mu m g)/m with the friction mu m g and the heat mu m g v.  (A load applied at once
+// would overshoot the undamped spring to 2 f and slip above mu m g/2.)
+TEST(FrictionMemory, StickSlipThreshold)
+{
+  write_plate();
+  const double E = 1.0e6, g = 1000.0, m = RHO * DP * DP, mu = 0.3, dt = 5e-6, alpha = 0.1;
+  const double kt = alpha * m / (dt * dt);
+  for (double ratio : {0.5, 0.95, 1.05, 1.5}) {
+    Lammps l;
+    const double x0[3] = {0.0, RC - m * g / E, 0.0};
+    one_particle(l, 2, x0, E);
+    const double f = ratio * mu * m * g;
+    l.cmds({"variable fx equal " + num(f) + "*((step<300)*step/300+(step>=300))", "fix g all gravity " + num(g) + " vector 0 -1 0",
+            "fix push all addforce v_fx 0 0",
+            "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + num(mu) + " friction memory tfac " +
+                num(alpha),
+            "run 400"});
+    double xmin = 1e300, xmax = -1e300;
+    const double v0 = vel(l, 1)[0];
+    for (int k = 0; k < 200; k++) {
+      l.cmd("run 1 pre no post no");
+      xmin = std::min(xmin, pos(l, 1)[0]);
+      xmax = std::max(xmax, pos(l, 1)[0]);
+    }
+    const double v = vel(l, 1)[0], acc = (v - v0) / (200 * dt);
+    std::printf("[ memory   ] f = %.2f mu m g: x in [%.4e, %.4e] m (f/k_t %.4e), acceleration %.5g m/s^2 "
+                "((f - mu m g)/m %.5g), tool force x %.6g (f %.6g, mu m g %.6g), friction power %.4g, sliding %g\n",
+                ratio, xmin, xmax, f / kt, acc, (f - mu * m * g) / m, l.equal("f_tool[1]"), f, mu * m * g,
+                l.equal("f_tool[4]"), l.equal("f_tool[47]"));
+    if (ratio < 1.0) {
+      // held where the spring carries f (measured: within 1.1 %, the force within 0.04 %)
+      EXPECT_NEAR(xmin, f / kt, 0.03 * f / kt);
+      EXPECT_NEAR(xmax, f / kt, 0.03 * f / kt);
+      EXPECT_NEAR(l.equal("f_tool[1]"), f, 0.0015 * f);
+      EXPECT_EQ(l.equal("f_tool[4]"), 0.0);        // no slip, no heat
+      EXPECT_EQ(l.equal("f_tool[47]"), 0.0);
+    } else {
+      const double a = (f - mu * m * g) / m;
+      EXPECT_NEAR(acc, a, 1e-6 * a);               // sliding at (f - mu m g)/m
+      EXPECT_NEAR(l.equal("f_tool[1]"), mu * m * g, 1e-9 * mu * m * g);
+      EXPECT_NEAR(l.equal("f_tool[4]"), mu * m * g * v, 0.01 * mu * m * g * v);
+      EXPECT_EQ(l.equal("f_tool[47]"), 1.0);
+    }
+  }
+}
+
+// the state resets when the contact ends: a particle sliding on the plate with the memory
+// law, lifted off and put back at rest, starts from f_old = 0 (no friction at rest)
+TEST(FrictionMemory, ResetWhenContactEnds)
+{
+  write_plate();
+  const double E = 1.0e6, g = 1000.0, m = RHO * DP * DP, mu = 0.3;
+  Lammps l;
+  const double x0[3] = {0.0, RC - m * g / E, 0.0};
+  one_particle(l, 2, x0, E);
+  l.cmds({"velocity all set 0.5 0 0 units box", "fix g all gravity " + num(g) + " vector 0 -1 0",
+          "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu " + num(mu) + " friction memory", "run 50"});
+  EXPECT_NEAR(l.equal("f_tool[1]"), mu * m * g, 1e-3 * mu * m * g);    // sliding: mu F_N
+  EXPECT_NEAR(fcontact(l, 1)[4], mu * m * g, 1e-3 * mu * m * g);      // per-atom |F_T|
+  EXPECT_EQ(fcontact(l, 1)[5], 4.0);                                  // feature: other (STL)
+  l.cmds({"set atom 1 y 0.002", "velocity all set 0 0 0 units box", "run 1"});    // out of contact
+  EXPECT_EQ(l.equal("f_tool[5]"), 0.0);
+  EXPECT_EQ(fcontact(l, 1)[5], 0.0);
+  l.cmds({"unfix g", "set atom 1 y " + num(x0[1]), "velocity all set 0 0 0 units box", "run 1"});
+  EXPECT_EQ(l.equal("f_tool[5]"), 1.0);
+  EXPECT_EQ(l.equal("f_tool[1]"), 0.0);    // no memory of the earlier sliding
+}
+
+// the decomposition by tool feature (vector 16-47, per-atom columns 4-6): particles pressed
+// on the rake face, the edge and the flank of a 2D insert; each feature sums its own contacts,
+// and the features add up to the total force on the tool
+TEST(FrictionMemory, DecompositionByFeature)
+{
+  const double r = 1e-3, d = RC - 2e-5, c45 = sqrt(0.5), a = 7.0 * PI / 180.0, sa = sin(a), ca = cos(a);
+  const double fx = r * sa, fy = r - r * ca;
+  Lammps l;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3", "create_box 1 box",
+          // edge radius r about (0, r) (tip at the origin): rake face x = -r above y = r, the
+          // flank from (r sin a, r - r cos a) along (cos a, sin a); each particle 20 um inside
+          // its contact radius, the edge one on the arc's bisector
+          "create_atoms 1 single " + num(-r - d) + " 0.005 0 units box",
+          "create_atoms 1 single " + num(-c45 * (r + d)) + " " + num(r - c45 * (r + d)) + " 0 units box",
+          "create_atoms 1 single " + num(fx + 3e-3 * ca + d * sa) + " " + num(fy + 3e-3 * sa - d * ca) + " 0 units box",
+          "mass 1 " + num(RHO * DP * DP), "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 1e6 nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal", "timestep 5e-6",
+          "velocity all set 0.1 -0.1 0 units box",
+          "fix tool all contact/tri-penalty insert rake 0 clearance 7 radius 1e-3 rake_length 0.01 "
+          "flank_length 0.01 segments 8 mu 0.3",
+          "run 1"});
+  double sum[2] = {0.0, 0.0};
+  for (int feat = 0; feat < 4; feat++) {
+    const int b = 16 + 8 * feat;
+    const double n = l.equal("f_tool[" + std::to_string(b + 4) + "]");
+    std::printf("[ decomp   ] feature %d: %g contacts, normal (%.4g, %.4g), friction (%.4g, %.4g), sum F_N %.4g, "
+                "sum |F_T| %.4g, at the limit %g\n",
+                feat, n, l.equal("f_tool[" + std::to_string(b) + "]"), l.equal("f_tool[" + std::to_string(b + 1) + "]"),
+                l.equal("f_tool[" + std::to_string(b + 2) + "]"), l.equal("f_tool[" + std::to_string(b + 3) + "]"),
+                l.equal("f_tool[" + std::to_string(b + 5) + "]"), l.equal("f_tool[" + std::to_string(b + 6) + "]"),
+                l.equal("f_tool[" + std::to_string(b + 7) + "]"));
+    EXPECT_EQ(n, feat < 3 ? 1.0 : 0.0) << feat;
+    for (int k = 0; k < 2; k++)
+      sum[k] += l.equal("f_tool[" + std::to_string(b + k) + "]") + l.equal("f_tool[" + std::to_string(b + 2 + k) + "]");
+  }
+  for (int k = 0; k < 2; k++) EXPECT_NEAR(sum[k], l.equal("f_tool[" + std::to_string(k + 1) + "]"), 1e-12 * fabs(sum[k]) + 1e-300);
+  for (int tag = 1; tag <= 3; tag++) EXPECT_EQ(fcontact(l, tag)[5], (double) tag) << tag;    // rake, edge, flank
+  EXPECT_GT(l.equal("f_tool[16]"), 0.0);    // the rake face is pushed in +x
+  EXPECT_GT(l.equal("f_tool[33]"), 0.0);    // the flank is pushed up (+y) by the particle below it
 }
 
 /* ----------------------------------------------------------------------
@@ -1086,6 +1226,15 @@ TEST(BadInput, ContactFix)
                                "Expected floating point parameter instead of 'x'"));
   EXPECT_TRUE(l.error_contains(fix + "insert rake 50 clearance 45 radius 0 rake_length 1e-3 flank_length 1e-3",
                                "wedge angle 90 - alpha - gamma must be positive"));
+  // the friction law keywords
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction sticky", "friction must be static, coulomb or memory, got sticky"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory tfac 0", "tfac must be in (0,1], got 0"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory tfac 2", "tfac must be in (0,1], got 2"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl tfac 0.2", "tfac applies to friction memory only"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory stick yes", "stick applies to friction static/coulomb"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory vreg 0.1", "vreg applies to friction static/coulomb"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction static stick no", "give friction or stick, not both"));
+  EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction", "keyword friction needs 1 value(s)"));
   // checked at init
   l.cmds({fix + "stl plate.stl velocity v_vx 0 0"});
   EXPECT_TRUE(l.error_contains("run 0", "velocity variable vx does not exist"));

@@ -606,6 +606,81 @@ TEST(Penalty, Friction)
   EXPECT_EQ(out.fric_power, 0.0);
 }
 
+// friction with memory (sphcut_contact.h memory_friction): the elastic predictor
+// f* = f_old,t - alpha m v_t/dt, returned to the cone |F_T| <= mu F_N
+TEST(Penalty, FrictionMemory)
+{
+  ContactIn in = steel_particle();
+  in.mu = 0.3;
+  in.dfac = 0.0;
+  in.friction_memory = 1;
+  in.tfac = 0.1;
+  in.dt = 1.0e-8;
+  in.v_reg = 0.5;       // not used by the memory law
+  in.dt_stick = 1.0;    // not used either
+  const double n[3] = {0.0, 1.0, 0.0};
+  const double rp = 0.5 * in.h / in.sfac;
+  const double x[3] = {0.0, 0.8 * rp, 0.0};
+  const double kdt = in.tfac * in.mass / in.dt;    // force per unit sliding speed of one step
+
+  // a new contact (f_old = 0) sliding slowly: the predictor alone, no slip, no heat
+  double v[3] = {1.0e-3, 0.0, 0.0};
+  ContactOut out = plane_contact(in, x, v, n);
+  ASSERT_EQ(out.active, 1);
+  const double fmax = in.mu * out.fn;
+  ASSERT_LT(kdt * v[0], fmax);
+  EXPECT_NEAR(out.ft[0], -kdt * v[0], 1e-12 * fmax);
+  EXPECT_EQ(out.ft[1], 0.0);
+  EXPECT_EQ(out.slip, 0);
+  EXPECT_EQ(out.fric_power, 0.0);
+
+  // memory: at rest the old force stays (static friction), also when it is tilted out of
+  // the tangent plane (projected), and in 3D any direction
+  v[0] = 0.0;
+  in.ft_old[0] = -0.5 * fmax;
+  in.ft_old[1] = 0.2 * fmax;    // normal part: dropped
+  in.ft_old[2] = 0.4 * fmax;
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(out.ft[0], -0.5 * fmax, 1e-12 * fmax);
+  EXPECT_EQ(out.ft[1], 0.0);
+  EXPECT_NEAR(out.ft[2], 0.4 * fmax, 1e-12 * fmax);
+  EXPECT_EQ(out.slip, 0);
+
+  // fast sliding: the force is mu F_N against the trial force, the heat mu F_N times the
+  // slip rate; with f_old = mu F_N against steady sliding the heat is mu F_N |v_t|
+  for (int k = 0; k < 3; k++) in.ft_old[k] = 0.0;
+  in.ft_old[0] = -fmax;
+  v[0] = 2.0;
+  out = plane_contact(in, x, v, n);
+  EXPECT_EQ(out.slip, 1);
+  EXPECT_NEAR(len3(out.ft), fmax, 1e-12 * fmax);
+  EXPECT_NEAR(out.ft[0], -fmax, 1e-12 * fmax);
+  EXPECT_NEAR(out.fric_power, fmax * v[0], 1e-9 * fmax * v[0]);
+  for (int c = 0; c < 3; c++) EXPECT_NEAR(out.f[c], out.fn * n[c] + out.ft[c], 1e-12 * out.fn);
+
+  // reversal: the old force +mu F_N came from sliding in -x; going on in -x it stays at the
+  // limit (slip), reversed the predictor first unloads it (stick, half of it left)
+  in.ft_old[0] = fmax;
+  v[0] = -0.5 * fmax / kdt;
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(out.ft[0], fmax, 1e-12 * fmax);
+  EXPECT_EQ(out.slip, 1);
+  EXPECT_NEAR(out.fric_power, fmax * 0.5 * fmax / kdt, 1e-9 * fmax * fmax / kdt);
+  v[0] = 0.5 * fmax / kdt;
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(out.ft[0], 0.5 * fmax, 1e-12 * fmax);
+  EXPECT_EQ(out.slip, 0);
+
+  // no friction without compression or out of contact (the caller then resets f_old)
+  const double xfar[3] = {0.0, 2.0 * rp, 0.0};
+  out = plane_contact(in, xfar, v, n);
+  EXPECT_EQ(len3(out.ft), 0.0);
+  in.mu = 0.0;
+  out = plane_contact(in, x, v, n);
+  EXPECT_EQ(len3(out.ft), 0.0);
+  EXPECT_EQ(out.fric_power, 0.0);
+}
+
 /* ----------------------------------------------------------------------
    STL / VTK
 ------------------------------------------------------------------------- */

@@ -48,11 +48,12 @@ std::vector<std::string> setup(const std::string &newton)
 
 // heat: "particles" = split auto to the tool particles; "lumped" = split 0.4, the tool share
 // into the lumped tool temperature (element 11, one value summed over all ranks)
-std::vector<std::string> fixes(const std::string &heat = "particles")
+// friction: extra friction keywords of the contact fix (e.g. the memory law)
+std::vector<std::string> fixes(const std::string &heat = "particles", const std::string &friction = "")
 {
   return {"fix sph all sph/jc-thermal cfl 0.3 tool toolp clamp clamp", "fix heat all heat/fmfs",
           "fix tool work contact/tri-penalty stl cut.stl velocity -200 0 0 mu 0.3 heat heat " +
-              std::string(heat == "particles" ? "tool_particles toolp" : "split 0.4 tool_cp 1e-3 300")};
+              std::string(heat == "particles" ? "tool_particles toolp" : "split 0.4 tool_cp 1e-3 300") + friction};
 }
 
 struct Snapshot {
@@ -128,12 +129,13 @@ void expect_same(const Snapshot &a, const Snapshot &b, const char *what)
   EXPECT_GT(a.ftool[6], 0.0) << what;    // friction heat reached the tool (particles or lumped)
 }
 
-Snapshot run(MPI_Comm comm, const std::string &newton, int nsteps, const std::string &heat = "particles")
+Snapshot run(MPI_Comm comm, const std::string &newton, int nsteps, const std::string &heat = "particles",
+             const std::string &friction = "")
 {
   write_tool();
   Lammps l(comm);
   l.cmds(setup(newton));
-  l.cmds(fixes(heat));
+  l.cmds(fixes(heat, friction));
   const std::vector<double> x0 = gather_x(l);
   l.cmd("run " + std::to_string(nsteps));
   return take(l, x0);
@@ -165,22 +167,86 @@ TEST(ContactInvariance, NewtonOnOff)
   expect_same(run(MPI_COMM_WORLD, "on", 100), run(MPI_COMM_WORLD, "off", 100), "newton");
 }
 
-TEST(ContactInvariance, RestartThenContinue)
+namespace {
+
+int rank_of_world()
 {
-  const Snapshot ref = run(MPI_COMM_WORLD, "on", 100);
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  return me;
+}
+
+void restart_then_continue(const std::string &friction, const char *what)
+{
+  const Snapshot ref = run(MPI_COMM_WORLD, "on", 100, "particles", friction);
   write_tool();
   std::vector<double> x0;
   {
     Lammps l;
     l.cmds(setup("on"));
-    l.cmds(fixes());
+    l.cmds(fixes("particles", friction));
     x0 = gather_x(l);
     l.cmds({"run 50", "write_restart contact.restart"});
   }
   Lammps l;
   l.cmds({"read_restart contact.restart", "group work type 1", "group toolp type 2", "thermo 0"});
-  l.cmds(fixes());
+  l.cmds(fixes("particles", friction));
   l.cmd("run 50");
   EXPECT_EQ(l.lmp->update->ntimestep, 100);
-  expect_same(ref, take(l, x0), "restart");
+  expect_same(ref, take(l, x0), what);
+}
+
+}    // namespace
+
+TEST(ContactInvariance, RestartThenContinue)
+{
+  restart_then_continue("", "restart");
+}
+
+// friction with memory: the per-particle friction state migrates between the ranks and is
+// carried through the restart file; a run split in two equals the unsplit one, and a second
+// run command continues it as well
+TEST(ContactInvariance, FrictionMemoryRanksAndRestart)
+{
+  int nprocs;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  const std::string mem = " friction memory";
+  if (nprocs > 1) {
+    // the parallel run is rebalanced after 50 steps: the cuts move to the particles, and
+    // particles in contact (with friction state) change rank
+    const Snapshot one = run(MPI_COMM_SELF, "on", 100, "particles", mem);
+    write_tool();
+    Lammps l;
+    l.cmds(setup("on"));
+    l.cmds(fixes("particles", mem));
+    const std::vector<double> x0 = gather_x(l);
+    l.cmd("run 50");
+    LAMMPS_NS::Fix *tool = l.lmp->modify->fix[l.lmp->modify->find_fix("tool")];
+    std::vector<int> mine;
+    for (int i = 0; i < l.lmp->atom->nlocal; i++)
+      if (tool->array_atom[i][5] > 0.0 && tool->array_atom[i][4] > 0.0) mine.push_back(l.lmp->atom->tag[i]);
+    l.cmd("balance 1.0 shift xy 10 1.0");
+    int moved = 0, nmoved = 0, ncont = 0, nc = (int) mine.size();
+    for (int tag : mine) {
+      const int i = l.lmp->atom->map(tag);
+      if (i < 0 || i >= l.lmp->atom->nlocal) moved++;
+    }
+    MPI_Allreduce(&moved, &nmoved, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    MPI_Allreduce(&nc, &ncont, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
+    l.cmd("run 50");
+    if (rank_of_world() == 0)
+      std::printf("[ memory   ] %d ranks: %d of %d particles with friction changed rank at the rebalance\n", nprocs,
+                  nmoved, ncont);
+    EXPECT_GT(ncont, 0);
+    if (nprocs == 4) EXPECT_GT(nmoved, 0);    // the 2 x 2 grid: the y cut moves below the contact
+    expect_same(one, take(l, x0), "memory ranks");
+  }
+  restart_then_continue(mem, "mem restart");
+  const Snapshot ref = run(MPI_COMM_WORLD, "on", 100, "particles", mem);
+  Lammps l;
+  l.cmds(setup("on"));
+  l.cmds(fixes("particles", mem));
+  const std::vector<double> x0 = gather_x(l);
+  l.cmds({"run 50", "run 50"});
+  expect_same(ref, take(l, x0), "mem 2 runs");
 }

@@ -99,6 +99,19 @@ TEST(DumpSPH, ContactForceColumnsAndDumpModify)
   for (const auto &r : fr.rows) EXPECT_EQ(r.second[1], 0.0);
 }
 
+// the normal / friction / feature columns of the contact fix (4-6) under their names
+TEST(DumpSPH, ContactDecompositionColumns)
+{
+  Lammps l;
+  block(l, false, true);
+  l.cmds({"dump_sph d all 1 dump.fn id fcontact_n fcontact_t contact_feature f_cut[6]", "dump_modify d sort id",
+          "run 0"});
+  const Frame fr = read_dump("dump.fn");
+  ASSERT_EQ(fr.cols, (std::vector<std::string>{"id", "fcontact_n", "fcontact_t", "contact_feature", "f_cut[6]"}));
+  EXPECT_EQ(fr.rows.size(), 63u);
+  for (const auto &r : fr.rows) EXPECT_EQ(r.second[fr.col("contact_feature")], r.second[4]);
+}
+
 TEST(DumpSPH, BadFieldsAreNamedErrors)
 {
   Lammps l;

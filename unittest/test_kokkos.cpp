@@ -284,7 +284,8 @@ CutRun cut_run(const std::vector<std::string> &args, const std::string &example,
   l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/" + example + "/in.cutting").c_str());
   CutRun r;
   r.snap = take(l);
-  for (int k = 1; k <= 15; k++) r.cut.push_back(l.equal("f_cut[" + std::to_string(k) + "]"));
+  // elements 1-15 and the decomposition by tool feature, 16-47
+  for (int k = 1; k <= 47; k++) r.cut.push_back(l.equal("f_cut[" + std::to_string(k) + "]"));
   for (int k = 1; k <= 6; k++) r.heat.push_back(l.equal("f_heat[" + std::to_string(k) + "]"));
   return r;
 }
@@ -329,6 +330,16 @@ TEST(KokkosThermal, Cut2DMatchesCpu)
   const CutRun cpu = cut_run({}, "cutting-2d-ti6al4v", vars);
   const CutRun kk = cut_run(KK_FULL, "cutting-2d-ti6al4v", vars);
   expect_same_cut(cpu, kk, "cut 2D");
+}
+
+TEST(KokkosThermal, Cut2DFrictionMemoryMatchesCpu)
+{
+  const std::vector<std::string> vars = {"ny index 11", "cut index 0.12e-3", "dumpevery index 0",
+                                         "steps index 9000", "thermoevery index 1000", "friction index memory"};
+  const CutRun cpu = cut_run({}, "cutting-2d-ti6al4v", vars);
+  const CutRun kk = cut_run(KK_FULL, "cutting-2d-ti6al4v", vars);
+  expect_same_cut(cpu, kk, "memory");
+  EXPECT_GT(cpu.cut[15 + 4], 0.0);    // rake-face contacts in the decomposition
 }
 
 TEST(KokkosThermal, Cut3DFreeSidesMatchesCpu)
