@@ -10,8 +10,8 @@
 #   slab     2D vs 3D periodic slab (plane strain) at NYS (default 11) across over CUTS (0.3e-3 m):
 #            steady forces per mm of width
 #   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s
-#   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut, with a dump of
-#            the chip region for the picture (tools/render_chip.py renders it)
+#   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut (or CHIP_WALL
+#            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -108,8 +108,9 @@ dump_sph snap all \${printevery} chip.dump id type x y z temperature plastic_str
 dump_modify snap sort id
 run 0
 EOI
-  timeout ${CHIP_TIMEOUT:-540} "$BIN" $GPUK -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
-    -var thermoevery 5000 -var printevery 100 -log log.cutting > screen 2>&1 || tail -3 screen
+  timeout ${CHIP_TIMEOUT:-590} "$BIN" $GPUK -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
+    -var xstart ${XSTARTC:-3} -var walltime ${CHIP_WALL:-0} -var thermoevery 5000 -var printevery 100 \
+    -log log.cutting > screen 2>&1 || tail -3 screen
   say "chip3d ny $ny nz $nz (free sides): $(grep '^Loop time' log.cutting | tail -2 | head -1)"
   say "  $(tail -1 forces.dat)"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
