@@ -114,7 +114,19 @@ EOI
   say "chip3d ny $ny nz $nz (free sides): $(grep '^Loop time' log.cutting | tail -2 | head -1)"
   say "  $(tail -1 forces.dat)"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
-  [ -f chip.dump ] && gzip -c chip.dump > "$OUT/chip3d.dump.gz"
+  # the region around the tool (x >= CHIP_CROP, m) for the picture
+  [ -f chip.dump ] && CHIP_CROP=${CHIP_CROP:--1} python3 - "$OUT/chip3d.dump.gz" <<'EOP'
+import gzip, os, sys
+lines = open("chip.dump").read().splitlines()
+k = next(i for i, l in enumerate(lines) if l.startswith("ITEM: ATOMS"))
+ix = lines[k].split()[2:].index("x")
+xmin = float(os.environ["CHIP_CROP"])
+rows = [l for l in lines[k + 1:] if float(l.split()[ix]) >= xmin]
+head = lines[:k + 1]
+head[3] = str(len(rows))
+with gzip.open(sys.argv[1], "wt") as f:
+    f.write("\n".join(head + rows) + "\n")
+EOP
   cd "$ROOT"
 }
 
