@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# bench/machdyn: sphcut against LAMMPS MACHDYN (pair smd/ulsph) on the 3D scene of issue 14:
+# a steel block of n^3 particles (default 31^3 = 29,791; spacing 0.1 mm, 80 neighbours in
+# the kernel support in both codes), compressed by an initial velocity field, `steps` steps
+# (default 100) with a fixed dt, on one core (1 MPI rank, OMP_NUM_THREADS=1).  Three cases:
+#   machdyn   smd/ulsph with smd/integrate_ulsph (in.machdyn; linear plastic)
+#   sphcut    pair + fix sph/jc-thermal (in.sphcut; Johnson-Cook)
+#   thermal   the same + fix heat/fmfs + compute surface/lambda every step
+# run alternately (machdyn, sphcut, thermal, machdyn, ...) `reps` times (default 2), since
+# a shared machine is noisy.  Prints the loop time and particle-steps/s of every run, the
+# means, sphcut's speed relative to MACHDYN, and sphcut's timing table of its last runs.
+# Builds nothing: MACHDYN is in the cached LAMMPS build (tools/build-deps.sh), the plugin
+# in build/ (make build).
+# Usage: bash bench/machdyn/run.sh [n] [steps] [reps]     (logs kept in $OUT, default a temp dir)
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+root="$(cd "$here/../.." && pwd)"
+n=${1:-31}
+steps=${2:-100}
+reps=${3:-2}
+[ -f "$root/build/env.sh" ] || { echo "no build/env.sh: run 'make build' first" >&2; exit 1; }
+# shellcheck disable=SC1091
+source "$root/build/env.sh"
+if ! "$LMP_PLAIN" -h | grep "smd/ulsph" > /dev/null; then
+  echo "the cached LAMMPS ($LMP_PLAIN) has no MACHDYN package: no comparison possible" >&2
+  exit 1
+fi
+export OMP_NUM_THREADS=1
+out="${OUT:-$(mktemp -d)}"
+mkdir -p "$out"
+cd "$out"
+
+run_case() {    # case rep -> prints "case rep atoms steps loop_s"
+  local c=$1 r=$2 log="log.$1.$2"
+  case $c in
+    machdyn) "$LMP_PLAIN" -in "$here/in.machdyn" -var n "$n" -var steps "$steps" -log "$log" > /dev/null ;;
+    sphcut)  "$LMP" -in "$here/in.sphcut" -var n "$n" -var steps "$steps" -var thermal 0 -log "$log" > /dev/null ;;
+    thermal) "$LMP" -in "$here/in.sphcut" -var n "$n" -var steps "$steps" -var thermal 1 -log "$log" > /dev/null ;;
+  esac
+  grep "^Loop time" "$log" | tail -1 | awk -v c="$c" -v r="$r" '{print c, r, $12, $9, $4}'
+}
+
+echo "# $(date -u +%FT%TZ) $(hostname) $(getconf _NPROCESSORS_ONLN) cores, load $(cut -d' ' -f1-3 /proc/loadavg); n=$n steps=$steps reps=$reps; logs in $out"
+printf '%-8s %3s %7s %6s %9s %14s\n' case rep atoms steps loop_s particle-steps/s
+for r in $(seq 1 "$reps"); do
+  for c in machdyn sphcut thermal; do
+    run_case "$c" "$r"
+  done | awk '{printf("%-8s %3s %7s %6s %9.2f %14.4g\n", $1, $2, $3, $4, $5, $3 * $4 / $5)}' | tee -a results.txt
+done
+awk '{s[$1] += $3 * $4 / $5; t[$1] += $5; k[$1]++}
+     END {printf("means: machdyn %.4g, sphcut %.4g, thermal %.4g particle-steps/s\n",
+                 s["machdyn"] / k["machdyn"], s["sphcut"] / k["sphcut"], s["thermal"] / k["thermal"]);
+          printf("sphcut mechanics / MACHDYN speed: %.2fx; thermal part (fix heat/fmfs + compute surface/lambda) costs %.2fx the mechanics\n",
+                 (s["sphcut"] / k["sphcut"]) / (s["machdyn"] / k["machdyn"]),
+                 (t["thermal"] - t["sphcut"]) / t["sphcut"])}' results.txt
+for c in sphcut thermal; do
+  echo "sphcut timing table, $c, last run:"
+  sed -n '/^sphcut timing of this run/,/rest (neighbour/p' "log.$c.$reps"
+done
