@@ -60,8 +60,8 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   FixSPHJCThermal *fix;
 
   int nmax;                       // scratch arrays, local + ghost
-  double **sig, **rstress;        // sigma/rho^2 and the artificial stress of the force state
-  double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F goes to atom->f)
+  double **pack;                  // per particle: what its neighbours read (packed row, see the .cpp)
+  double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F is added to atom->f)
 
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);
