@@ -10,13 +10,8 @@
 # Usage: bash bench/machdyn/mech-overhead.sh [n] [steps] [reps]     (make build first)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-root="$(cd "$here/../.." && pwd)"
-n=${1:-31}
-steps=${2:-100}
-reps=${3:-2}
-# shellcheck disable=SC1091
-source "$root/build/env.sh"
-export OMP_NUM_THREADS=1
+# shellcheck source=bench/machdyn/common.sh
+source "$here/common.sh"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 git -C "$root" archive HEAD | tar -x -C "$tmp"

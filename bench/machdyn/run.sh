@@ -10,22 +10,18 @@
 # a shared machine is noisy.  Prints the loop time and particle-steps/s of every run, the
 # means, sphcut's speed relative to MACHDYN, and sphcut's timing table of its last runs.
 # Builds nothing: MACHDYN is in the cached LAMMPS build (tools/build-deps.sh), the plugin
-# in build/ (make build).
+# in build/ (make build).  SPHCUT_BEFORE=<folder with another sphcutplugin.so> adds a case
+# `before`: the mechanics with that plugin (e.g. built from an older commit), in the same
+# alternation, for before/after figures.
 # Usage: bash bench/machdyn/run.sh [n] [steps] [reps]     (logs kept in $OUT, default a temp dir)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
-root="$(cd "$here/../.." && pwd)"
-n=${1:-31}
-steps=${2:-100}
-reps=${3:-2}
-[ -f "$root/build/env.sh" ] || { echo "no build/env.sh: run 'make build' first" >&2; exit 1; }
-# shellcheck disable=SC1091
-source "$root/build/env.sh"
+# shellcheck source=bench/machdyn/common.sh
+source "$here/common.sh"
 if ! "$LMP_PLAIN" -h | grep "smd/ulsph" > /dev/null; then
   echo "the cached LAMMPS ($LMP_PLAIN) has no MACHDYN package: no comparison possible" >&2
   exit 1
 fi
-export OMP_NUM_THREADS=1
 out="${OUT:-$(mktemp -d)}"
 mkdir -p "$out"
 cd "$out"
@@ -34,6 +30,7 @@ run_case() {    # case rep -> prints "case rep atoms steps loop_s"
   local c=$1 r=$2 log="log.$1.$2"
   case $c in
     machdyn) "$LMP_PLAIN" -in "$here/in.machdyn" -var n "$n" -var steps "$steps" -log "$log" > /dev/null ;;
+    before)  LAMMPS_PLUGIN_PATH="$SPHCUT_BEFORE" "$LMP" -in "$here/in.sphcut" -var n "$n" -var steps "$steps" -var thermal 0 -log "$log" > /dev/null ;;
     sphcut)  "$LMP" -in "$here/in.sphcut" -var n "$n" -var steps "$steps" -var thermal 0 -log "$log" > /dev/null ;;
     thermal) "$LMP" -in "$here/in.sphcut" -var n "$n" -var steps "$steps" -var thermal 1 -log "$log" > /dev/null ;;
   esac
@@ -42,18 +39,23 @@ run_case() {    # case rep -> prints "case rep atoms steps loop_s"
 
 echo "# $(date -u +%FT%TZ) $(hostname) $(getconf _NPROCESSORS_ONLN) cores, load $(cut -d' ' -f1-3 /proc/loadavg); n=$n steps=$steps reps=$reps; logs in $out"
 printf '%-8s %3s %7s %6s %9s %14s\n' case rep atoms steps loop_s particle-steps/s
+cases="machdyn sphcut thermal"
+[ -n "${SPHCUT_BEFORE:-}" ] && cases="machdyn before sphcut thermal"
 for r in $(seq 1 "$reps"); do
-  for c in machdyn sphcut thermal; do
+  for c in $cases; do
     run_case "$c" "$r"
   done | awk '{printf("%-8s %3s %7s %6s %9.2f %14.4g\n", $1, $2, $3, $4, $5, $3 * $4 / $5)}' | tee -a results.txt
 done
 awk '{s[$1] += $3 * $4 / $5; t[$1] += $5; k[$1]++}
      END {printf("means: machdyn %.4g, sphcut %.4g, thermal %.4g particle-steps/s\n",
                  s["machdyn"] / k["machdyn"], s["sphcut"] / k["sphcut"], s["thermal"] / k["thermal"]);
+          if (k["before"]) printf("before: %.4g particle-steps/s, %.2fx MACHDYN; after / before: %.2fx\n", s["before"] / k["before"],
+                                  (s["before"] / k["before"]) / (s["machdyn"] / k["machdyn"]), (s["sphcut"] / k["sphcut"]) / (s["before"] / k["before"]));
           printf("sphcut mechanics / MACHDYN speed: %.2fx; thermal part (fix heat/fmfs + compute surface/lambda) costs %.2fx the mechanics\n",
                  (s["sphcut"] / k["sphcut"]) / (s["machdyn"] / k["machdyn"]),
                  (t["thermal"] - t["sphcut"]) / t["sphcut"])}' results.txt
-for c in sphcut thermal; do
+for c in $cases; do
+  [ "$c" = machdyn ] && continue
   echo "sphcut timing table, $c, last run:"
   sed -n '/^sphcut timing of this run/,/rest (neighbour/p' "log.$c.$reps"
 done
