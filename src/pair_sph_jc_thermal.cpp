@@ -465,6 +465,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
+
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     const double *pi = pk[i];
@@ -475,37 +476,54 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     const double xi[3] = {pi[PK_X], pi[PK_X + 1], pi[PK_X + 2]};
     const double veli[3] = {pi[PK_V], pi[PK_V + 1], pi[PK_V + 2]};
     const bool ri = any_as && pi[PK_HASR] != 0.0;
-    double acci[sphcut::NACC];
-    for (int k = 0; k < sphcut::NACC; k++) acci[k] = 0.0;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
+    if ((int) nbr_j.size() < jnum) {
+      nbr_j.resize(jnum);
+      nbr_s.resize(jnum);
+    }
 
-    for (int jj = 0; jj < jnum; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double *pj = pk[j];
+    // the inputs of pair i-j from the packed rows; false beyond the cutoff, or when j is not
+    // in the SPH solid
+    sphcut::PairIn in;
+    in.rho_i = pi[PK_RHO];
+    in.A_i = &pi[PK_A];
+    auto gather = [&](int j, const double *pj) {
       const sphcut::TypePair &tp = tpi[type[j]];
-      sphcut::PairIn in;    // a fresh local each pair: the compiler keeps it in registers
-      sphcut::PairOut out;
       for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pj[PK_X + a];
       in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-      if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
-      const double mj = pj[PK_M];
-      if (mj == 0.0) continue;
-
+      if (in.r2 >= tp.cutsq || in.r2 == 0.0 || pj[PK_M] == 0.0) return false;
       for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - veli[a];
       sphcut::set_type_pair(tp, in);
-      in.rho_i = pi[PK_RHO];
-      in.A_i = &pi[PK_A];
       in.rho_j = pj[PK_RHO];
       in.A_j = &pj[PK_A];
       // the artificial stress term of a pair whose two tensors are zero (compression) adds
       // exactly nothing: skipped
-      const bool rj = any_as && pj[PK_HASR] != 0.0;
-      in.R_i = (ri || rj) ? &pi[PK_R] : nullptr;
+      in.R_i = (ri || (any_as && pj[PK_HASR] != 0.0)) ? &pi[PK_R] : nullptr;
       in.R_j = &pj[PK_R];
-      sphcut::pair_terms<DIM>(kernel_kind, in, out);
+      return true;
+    };
 
-      const double mm = mi * mj;
+    // first pass: the pairs within the cutoff and their scalars (the long chains of sqrt,
+    // divisions and kernel, which the processor overlaps from pair to pair in a short loop)
+    int npair = 0;
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!gather(j, pk[j])) continue;
+      sphcut::pair_scalars<DIM>(kernel_kind, in, nbr_s[npair]);
+      nbr_j[npair++] = j;
+    }
+
+    // second pass: the bracket and the sums, i's kept local, j's in its row
+    double acci[sphcut::NACC];
+    for (int k = 0; k < sphcut::NACC; k++) acci[k] = 0.0;
+    for (int n = 0; n < npair; n++) {
+      const int j = nbr_j[n];
+      const double *pj = pk[j];
+      gather(j, pj);
+      sphcut::PairOut out;
+      sphcut::pair_finish<DIM>(in, nbr_s[n], out);
+      const double mj = pj[PK_M], mm = mi * mj;
       sphcut::pair_accumulate<DIM>(in, out, mm, mj, pj[PK_VOL], 1.0, [&acci](int k, double val) { acci[k] += val; });
       if (NEWTON || j < nlocal) {
         double *accj = acc[j];

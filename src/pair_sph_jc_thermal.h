@@ -16,6 +16,8 @@ PairStyle(sph/jc-thermal,PairSPHJCThermal);
 #include "sphcut_pair.h"
 #include "sphcut_timer.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
@@ -62,6 +64,8 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   int nmax;                       // scratch arrays, local + ghost
   double **pack;                  // per particle: what its neighbours read (packed row, see the .cpp)
   double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F is added to atom->f)
+  std::vector<int> nbr_j;         // the pairs of one particle within the cutoff, and their scalars
+  std::vector<sphcut::PairScalars> nbr_s;
 
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);
