@@ -44,13 +44,19 @@ using namespace LAMMPS_NS;
 using sphcut::Material;
 
 static constexpr int NREVERSE = sphcut::NACC_REVERSE;
+
+// a particle's packed row: what its neighbours read of it (position, predicted velocity, density,
+// mass (0: not in the SPH solid, skipped), volume m/rho, sigma/rho^2, artificial stress and
+// whether it is nonzero), one contiguous row instead of pieces of x, the state row, mask, type,
+// mass and the stresses
+enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_VOL = 8, PK_HASR = 9, PK_A = 10, PK_R = 16, NPK = 22 };
 static constexpr double UNSET = -1.0e300;
 
 /* ---------------------------------------------------------------------- */
 
 PairSPHJCThermal::PairSPHJCThermal(LAMMPS *lmp) :
     Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), tpair(nullptr),
-    fix(nullptr), nmax(0), sig(nullptr), rstress(nullptr), acc(nullptr)
+    fix(nullptr), nmax(0), pack(nullptr), acc(nullptr)
 {
   restartinfo = 1;
   single_enable = 0;
@@ -77,8 +83,7 @@ PairSPHJCThermal::~PairSPHJCThermal()
 
 void PairSPHJCThermal::free_scratch()
 {
-  memory->destroy(sig);
-  memory->destroy(rstress);
+  memory->destroy(pack);
   memory->destroy(acc);
 }
 
@@ -113,8 +118,7 @@ void PairSPHJCThermal::grow_scratch(int n)
   if (n <= nmax) return;
   nmax = n;
   free_scratch();
-  memory->create(sig, nmax, 6, "pair:sig");
-  memory->create(rstress, nmax, 6, "pair:rstress");
+  memory->create(pack, nmax, NPK, "pair:pack");
   memory->create(acc, nmax, sphcut::NACC, "pair:acc");
 }
 
@@ -375,6 +379,10 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
 
   const int *type = atom->type;
   const int *mask = atom->mask;
+  const double *rmass = atom->rmass;
+  const double *mass = atom->mass;
+  double **x = atom->x;
+  double **f = atom->f;
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int newton_pair = force->newton_pair;
@@ -385,7 +393,8 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
 
   grow_scratch(atom->nmax);
 
-  // per particle (local + ghost): Cauchy stress and artificial stress of the force state
+  // per particle (local + ghost): its packed row, with the Cauchy and artificial stress of the
+  // force state; mass 0 marks particles outside the SPH solid (not in the group, tool)
   int any_as = 0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
@@ -393,9 +402,23 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
   for (int i = 0; i < nall; i++) {
     if (i < nacc)
       for (int k = 0; k < sphcut::NACC; k++) acc[i][k] = 0.0;
-    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    double *p = pack[i];
+    for (int a = 0; a < 3; a++) p[PK_X + a] = x[i][a];
+    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) {
+      p[PK_M] = 0.0;
+      continue;
+    }
     const double *s = st[i];
-    sphcut::particle_stress(mat[type[i]], dim, any_as, s[F::RHO_F], s[F::TEMP_F], &s[F::SF], sig[i], rstress[i]);
+    const double m = rmass ? rmass[i] : mass[type[i]];
+    for (int a = 0; a < 3; a++) p[PK_V + a] = s[F::VEST + a];
+    p[PK_RHO] = s[F::RHO_F];
+    p[PK_M] = m;
+    p[PK_VOL] = m / s[F::RHO_F];
+    sphcut::particle_stress(mat[type[i]], dim, any_as, s[F::RHO_F], s[F::TEMP_F], &s[F::SF], &p[PK_A], &p[PK_R]);
+    p[PK_HASR] = 0.0;
+    if (any_as)
+      for (int k = 0; k < 6; k++)
+        if (p[PK_R + k] != 0.0) p[PK_HASR] = 1.0;
   }
 
   if (dim == 2) {
@@ -406,11 +429,14 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
     else pair_loop<3, 0>(any_as);
   }
 
+  // the force sums into atom->f (ghosts' through LAMMPS' reverse communication of f)
+  for (int i = 0; i < nacc; i++)
+    for (int a = 0; a < 3; a++) f[i][a] += acc[i][sphcut::ACC_F + a];
   if (newton_pair) sphcut::reverse_comm(comm, this);
 
   // per particle: density rate, velocity gradient, Jaumann stress rate
   for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
+    if (pack[i][PK_M] == 0.0) continue;
     double *s = st[i];
     double drho, ds[6], du;
     sphcut::particle_rates(mat[type[i]], dim, correction, acc[i], &s[F::SF], s[F::RHO_F], drho, ds, du);
@@ -425,71 +451,87 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
 
 /* ----------------------------------------------------------------------
    the neighbour loop: per pair arithmetic in sphcut::pair_terms, here only
-   the gathering of inputs and the accumulation (i, and j for newton)
+   the gathering of inputs from the packed rows and the accumulation (i in
+   a local row, added once; j, with newton or when local, in its row)
 ------------------------------------------------------------------------- */
 
 template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
 {
-  double **x = atom->x;
-  double **f = atom->f;
   const int *type = atom->type;
-  const int *mask = atom->mask;
-  const double *rmass = atom->rmass;
-  const double *mass = atom->mass;
   const int nlocal = atom->nlocal;
-  const int groupbit = fix->groupbit;
-  double **st = fix->state;
-  using F = FixSPHJCThermal;
+  const double *const *pk = pack;
 
   const int inum = list->inum;
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
-  sphcut::PairIn in;
-  sphcut::PairOut out;
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
-    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) continue;
-    const int itype = type[i];
-    const double *si = st[i];
-    const double mi = rmass ? rmass[i] : mass[itype];
-    const double vi = mi / si[F::RHO_F];
-    in.rho_i = si[F::RHO_F];
-    in.A_i = sig[i];
-    in.R_i = any_as ? rstress[i] : nullptr;
-    double *acci = acc[i], *fi = f[i];
-    auto add_i = [acci, fi](int k, double val) { if (k < 3) fi[k] += val; else acci[k] += val; };
+    const double *pi = pk[i];
+    const double mi = pi[PK_M];
+    if (mi == 0.0) continue;    // not in the SPH solid
+    const sphcut::TypePair *tpi = tpair[type[i]];
+    const double vi = pi[PK_VOL];
+    const double xi[3] = {pi[PK_X], pi[PK_X + 1], pi[PK_X + 2]};
+    const double veli[3] = {pi[PK_V], pi[PK_V + 1], pi[PK_V + 2]};
+    const bool ri = any_as && pi[PK_HASR] != 0.0;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
+    if ((int) nbr_j.size() < jnum) {
+      nbr_j.resize(jnum);
+      nbr_s.resize(jnum);
+    }
 
+    // the inputs of pair i-j from the packed rows; false beyond the cutoff, or when j is not
+    // in the SPH solid
+    sphcut::PairIn in;
+    in.rho_i = pi[PK_RHO];
+    in.A_i = &pi[PK_A];
+    auto gather = [&](int j, const double *pj) {
+      const sphcut::TypePair &tp = tpi[type[j]];
+      for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pj[PK_X + a];
+      in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+      if (in.r2 >= tp.cutsq || in.r2 == 0.0 || pj[PK_M] == 0.0) return false;
+      for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - veli[a];
+      sphcut::set_type_pair(tp, in);
+      in.rho_j = pj[PK_RHO];
+      in.A_j = &pj[PK_A];
+      // the artificial stress term of a pair whose two tensors are zero (compression) adds
+      // exactly nothing: skipped
+      in.R_i = (ri || (any_as && pj[PK_HASR] != 0.0)) ? &pi[PK_R] : nullptr;
+      in.R_j = &pj[PK_R];
+      return true;
+    };
+
+    // first pass: the pairs within the cutoff and their scalars (the long chains of sqrt,
+    // divisions and kernel, which the processor overlaps from pair to pair in a short loop)
+    int npair = 0;
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      if (!(mask[j] & groupbit) || fix->role_of(mask[j]) == F::TOOL) continue;
-      const int jtype = type[j];
-      const sphcut::TypePair &tp = tpair[itype][jtype];
-      for (int a = 0; a < 3; a++) in.dx[a] = x[i][a] - x[j][a];
-      in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-      if (in.r2 >= tp.cutsq || in.r2 == 0.0) continue;
+      if (!gather(j, pk[j])) continue;
+      sphcut::pair_scalars<DIM>(kernel_kind, in, nbr_s[npair]);
+      nbr_j[npair++] = j;
+    }
 
-      const double *sj = st[j];
-      const double mj = rmass ? rmass[j] : mass[jtype];
-      for (int a = 0; a < 3; a++) in.dv[a] = sj[F::VEST + a] - si[F::VEST + a];
-      sphcut::set_type_pair(tp, in);
-      in.rho_j = sj[F::RHO_F];
-      in.A_j = sig[j];
-      in.R_j = any_as ? rstress[j] : nullptr;
-      sphcut::pair_terms<DIM>(kernel_kind, in, out);
-
-      const double mm = mi * mj;
-      sphcut::pair_accumulate<DIM>(in, out, mm, mj, mj / sj[F::RHO_F], 1.0, add_i);
+    // second pass: the bracket and the sums, i's kept local, j's in its row
+    double acci[sphcut::NACC];
+    for (int k = 0; k < sphcut::NACC; k++) acci[k] = 0.0;
+    for (int n = 0; n < npair; n++) {
+      const int j = nbr_j[n];
+      const double *pj = pk[j];
+      gather(j, pj);
+      sphcut::PairOut out;
+      sphcut::pair_finish<DIM>(in, nbr_s[n], out);
+      const double mj = pj[PK_M], mm = mi * mj;
+      sphcut::pair_accumulate<DIM>(in, out, mm, mj, pj[PK_VOL], 1.0, [&acci](int k, double val) { acci[k] += val; });
       if (NEWTON || j < nlocal) {
-        double *accj = acc[j], *fj = f[j];
-        sphcut::pair_accumulate<DIM>(in, out, mm, mi, vi, -1.0, [accj, fj](int k, double val) {
-          if (k < 3) fj[k] += val; else accj[k] += val;
-        });
+        double *accj = acc[j];
+        sphcut::pair_accumulate<DIM>(in, out, mm, mi, vi, -1.0, [accj](int k, double val) { accj[k] += val; });
       }
     }
+    double *acc_i = acc[i];
+    for (int k = 0; k < sphcut::NACC; k++) acc_i[k] += acci[k];
   }
 }
 
@@ -578,5 +620,5 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
 
 double PairSPHJCThermal::memory_usage()
 {
-  return (double) nmax * (6 + 6 + sphcut::NACC) * sizeof(double);
+  return (double) nmax * (NPK + sphcut::NACC) * sizeof(double);
 }

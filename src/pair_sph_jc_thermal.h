@@ -16,6 +16,8 @@ PairStyle(sph/jc-thermal,PairSPHJCThermal);
 #include "sphcut_pair.h"
 #include "sphcut_timer.h"
 
+#include <vector>
+
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
@@ -60,8 +62,10 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   FixSPHJCThermal *fix;
 
   int nmax;                       // scratch arrays, local + ghost
-  double **sig, **rstress;        // sigma/rho^2 and the artificial stress of the force state
-  double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F goes to atom->f)
+  double **pack;                  // per particle: what its neighbours read (packed row, see the .cpp)
+  double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F is added to atom->f)
+  std::vector<int> nbr_j;         // the pairs of one particle within the cutoff, and their scalars
+  std::vector<sphcut::PairScalars> nbr_s;
 
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);

@@ -42,23 +42,21 @@ SPHCUT_INLINE void kernel_shape(int kind, double q, double &f, double &df)
     const double t3 = t * t * t;
     f = t3 * t * (2.0 * q + 1.0);
     df = -5.0 * q * t3;    // d/dq[(1-q/2)^4 (2q+1)] = -5 q (1-q/2)^3
-  } else if (kind == KERNEL_HYPERBOLIC) {
-    if (q < 1.0) {
-      f = q * q * q - 6.0 * q + 6.0;
-      df = 3.0 * q * q - 6.0;
-    } else {
-      const double t = 2.0 - q;
-      f = t * t * t;
-      df = -3.0 * t * t;
-    }
   } else {
-    if (q < 1.0) {
-      f = 1.0 - 1.5 * q * q + 0.75 * q * q * q;
-      df = -3.0 * q + 2.25 * q * q;
+    // both pieces, then a select: no branch on q < 1, which a neighbour list takes in no
+    // predictable order
+    const double t = 2.0 - q;
+    const bool inner = q < 1.0;
+    if (kind == KERNEL_HYPERBOLIC) {
+      const double fi = q * q * q - 6.0 * q + 6.0, dfi = 3.0 * q * q - 6.0;
+      const double fo = t * t * t, dfo = -3.0 * t * t;
+      f = inner ? fi : fo;
+      df = inner ? dfi : dfo;
     } else {
-      const double t = 2.0 - q;
-      f = 0.25 * t * t * t;
-      df = -0.75 * t * t;
+      const double fi = 1.0 - 1.5 * q * q + 0.75 * q * q * q, dfi = -3.0 * q + 2.25 * q * q;
+      const double fo = 0.25 * t * t * t, dfo = -0.75 * t * t;
+      f = inner ? fi : fo;
+      df = inner ? dfi : dfo;
     }
   }
 }

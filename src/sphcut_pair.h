@@ -10,6 +10,15 @@
 #include "sphcut_kernels.h"
 #include "sphcut_material.h"
 
+// the per-pair functions are inlined into the neighbour loops whatever the compiler's size
+// heuristics (GCC -O3 called pair_terms out of line in the CPU pair's loop: 15 % slower, measured);
+// host compilers only
+#if defined(__GNUC__) && !defined(__CUDACC__)
+#define SPHCUT_PAIR_INLINE SPHCUT_INLINE __attribute__((always_inline))
+#else
+#define SPHCUT_PAIR_INLINE SPHCUT_INLINE
+#endif
+
 namespace sphcut {
 
 // inputs of one pair i-j (force state of fix sph/jc-thermal)
@@ -33,6 +42,7 @@ struct PairOut {
   double Mg[3];               // M_ij . grad_i W_ij (force on i = m_i m_j Mg)
   double dvg;                 // (v_j - v_i) . grad_i W_ij
   double work;                // (v_j - v_i) . M_ij . grad_i W_ij
+  double w_rho;               // W_ij / rho_ij, rho_ij = (rho_i + rho_j)/2 (XSPH; one division for both sides)
 };
 
 SPHCUT_INLINE double int_pow(double x, double n)
@@ -44,28 +54,44 @@ SPHCUT_INLINE double int_pow(double x, double n)
   return pow(x, n);
 }
 
+/* pair_terms in two halves.  pair_scalars: what depends on the distance
+   and the velocities only, the long chain of dependent operations (sqrt,
+   divisions, kernel); pair_finish: the bracket and its products.  A CPU
+   loop can run the first half over all neighbours of a particle, then the
+   second (short bodies the processor overlaps from pair to pair).        */
+struct PairScalars {
+  double w, wfac;             // W_ij and grad_i W_ij = wfac (x_i - x_j)
+  double pi;                  // artificial viscosity Pi_ij
+  double fn;                  // artificial stress factor f^n (0 when in.R_i is nullptr)
+  double w_rho;               // W_ij / rho_ij
+};
+
 template <int DIM>
-SPHCUT_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
+SPHCUT_PAIR_INLINE void pair_scalars(int kernel, const PairIn &in, PairScalars &ps)
 {
   const double r = sqrt(in.r2);
-  double wfac;
-  kernel_w_gradfac_pre(kernel, r, in.inv_h, in.wnorm, out.w, wfac);
-  for (int a = 0; a < 3; a++) out.g[a] = a < DIM ? wfac * in.dx[a] : 0.0;
+  kernel_w_gradfac_pre(kernel, r, in.inv_h, in.wnorm, ps.w, ps.wfac);
+  double vr = 0.0;    // (v_i - v_j).(x_i - x_j)
+  for (int a = 0; a < DIM; a++) vr -= in.dv[a] * in.dx[a];
+  ps.pi = artificial_viscosity(in.alpha, in.beta, vr, in.r2, in.h, in.cbar, 0.5 * (in.rho_i + in.rho_j));
+  ps.fn = in.R_i ? int_pow(ps.w * in.inv_wdp, in.as_n) : 0.0;
+  ps.w_rho = ps.w / (0.5 * (in.rho_i + in.rho_j));
+}
 
+template <int DIM>
+SPHCUT_PAIR_INLINE void pair_finish(const PairIn &in, const PairScalars &ps, PairOut &out)
+{
+  out.w = ps.w;
+  out.w_rho = ps.w_rho;
+  for (int a = 0; a < 3; a++) out.g[a] = a < DIM ? ps.wfac * in.dx[a] : 0.0;
   // bracket M_ij = sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I + f^n (R_i + R_j)
   double M[6];
   for (int k = 0; k < 6; k++) M[k] = in.A_i[k] + in.A_j[k];
-  double vr = 0.0;    // (v_i - v_j).(x_i - x_j)
-  for (int a = 0; a < DIM; a++) vr -= in.dv[a] * in.dx[a];
-  const double pi_ij = artificial_viscosity(in.alpha, in.beta, vr, in.r2, in.h, in.cbar,
-                                            0.5 * (in.rho_i + in.rho_j));
-  M[XX] -= pi_ij;
-  M[YY] -= pi_ij;
-  M[ZZ] -= pi_ij;
-  if (in.R_i) {
-    const double fn = int_pow(out.w * in.inv_wdp, in.as_n);
-    for (int k = 0; k < 6; k++) M[k] += fn * (in.R_i[k] + in.R_j[k]);
-  }
+  M[XX] -= ps.pi;
+  M[YY] -= ps.pi;
+  M[ZZ] -= ps.pi;
+  if (in.R_i)
+    for (int k = 0; k < 6; k++) M[k] += ps.fn * (in.R_i[k] + in.R_j[k]);
   sym_apply(M, out.g, out.Mg);
   out.dvg = 0.0;
   out.work = 0.0;
@@ -73,6 +99,14 @@ SPHCUT_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
     out.dvg += in.dv[a] * out.g[a];
     out.work += in.dv[a] * out.Mg[a];
   }
+}
+
+template <int DIM>
+SPHCUT_PAIR_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
+{
+  PairScalars ps;
+  pair_scalars<DIM>(kernel, in, ps);
+  pair_finish<DIM>(in, ps, out);
 }
 
 /* ---- constants of a type pair (mixing rules) --------------------------
@@ -123,7 +157,8 @@ enum PairAcc {
   ACC_DU,                     // 1/2 sum_j m_j (v_j - v_i) . M_ij grad_i W_ij
   ACC_XS,                     // sum_j m_j / rho_ij (v_j - v_i) W_ij (3)
   ACC_L = ACC_XS + 3,         // sum_j V_j (v_j - v_i) (x) grad_i W_ij (9, row major)
-  ACC_B = ACC_L + 9,          // -sum_j V_j (x_i - x_j) (x) grad_i W_ij (9): renormalisation
+  ACC_B = ACC_L + 9,          // -sum_j V_j (x_i - x_j) (x) grad_i W_ij (9): renormalisation, symmetric:
+                              // the upper triangle is summed, the entries below the diagonal stay 0
   NACC = ACC_B + 9,
   ACC_FIRST_REVERSE = ACC_DRHO,
   NACC_REVERSE = NACC - ACC_DRHO
@@ -132,20 +167,24 @@ enum PairAcc {
 /* add the contribution of pair i-j to one of the two particles through
    add(index, value): side = +1 for i (m_o, V_o: mass and volume of j),
    side = -1 for j (m_o, V_o of i).  Force and XSPH are antisymmetric, the
-   others symmetric (grad_j W_ij = -grad_i W_ij, v_i - v_j = -(v_j - v_i)). */
+   others symmetric (grad_j W_ij = -grad_i W_ij, v_i - v_j = -(v_j - v_i)).
+   The products of the pair (dv_a g_b, ...) are written apart from the
+   weights so that a driver adding both sides computes them once; B is
+   symmetric (g is parallel to dx): only its upper triangle (a <= b) is
+   summed, particle_rates mirrors it.                                      */
 template <int DIM, class Add>
-SPHCUT_INLINE void pair_accumulate(const PairIn &in, const PairOut &out, double mm, double m_o,
-                                   double V_o, double side, Add &&add)
+SPHCUT_PAIR_INLINE void pair_accumulate(const PairIn &in, const PairOut &out, double mm, double m_o,
+                                        double V_o, double side, Add &&add)
 {
-  const double xsfac = m_o * out.w / (0.5 * (in.rho_i + in.rho_j));
-  for (int a = 0; a < DIM; a++) add(ACC_F + a, side * mm * out.Mg[a]);
+  const double fs = side * mm, xs = side * m_o;
+  for (int a = 0; a < DIM; a++) add(ACC_F + a, fs * out.Mg[a]);
   add(ACC_DRHO, V_o * out.dvg);
-  add(ACC_DU, 0.5 * m_o * out.work);
+  add(ACC_DU, m_o * (0.5 * out.work));
   for (int a = 0; a < DIM; a++) {
-    add(ACC_XS + a, side * xsfac * in.dv[a]);
+    add(ACC_XS + a, xs * (out.w_rho * in.dv[a]));
     for (int b = 0; b < DIM; b++) {
-      add(ACC_L + 3 * a + b, V_o * in.dv[a] * out.g[b]);
-      add(ACC_B + 3 * a + b, -V_o * in.dx[a] * out.g[b]);
+      add(ACC_L + 3 * a + b, V_o * (in.dv[a] * out.g[b]));
+      if (b >= a) add(ACC_B + 3 * a + b, -V_o * (in.dx[a] * out.g[b]));
     }
   }
 }
@@ -160,7 +199,8 @@ SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, c
   double L[9];
   if (correction) {
     double b[9], binv[9];
-    for (int k = 0; k < 9; k++) b[k] = acc[ACC_B + k];
+    for (int a = 0; a < 3; a++)
+      for (int c = 0; c < 3; c++) b[3 * a + c] = a <= c ? acc[ACC_B + 3 * a + c] : acc[ACC_B + 3 * c + a];
     if (dim == 2) {
       b[2] = b[5] = b[6] = b[7] = 0.0;
       b[8] = 1.0;
@@ -176,8 +216,20 @@ SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, c
   du = acc[ACC_DU];
 }
 
+// true when no principal value of a symmetric tensor (Voigt) is positive: -s is positive
+// semidefinite (its principal minors are >= 0)
+SPHCUT_INLINE bool no_positive_eigenvalue(const double *s)
+{
+  const double a = -s[XX], b = -s[YY], c = -s[ZZ], d = -s[XY], e = -s[XZ], f = -s[YZ];
+  if (a < 0.0 || b < 0.0 || c < 0.0) return false;
+  if (a * b - d * d < 0.0 || a * c - e * e < 0.0 || b * c - f * f < 0.0) return false;
+  return a * (b * c - f * f) - d * (d * c - f * e) + e * (d * f - b * e) >= 0.0;
+}
+
 // per particle of the force state (local and ghost), what its pairs need: A = sigma/rho^2
-// (the particle's share of the momentum bracket) and the artificial stress R
+// (the particle's share of the momentum bracket) and the artificial stress R.  R is zero
+// unless a principal stress is tensile: a stress without one (the usual state under
+// compression) skips the eigen-decomposition.
 SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, double rho_f, double temp_f,
                                    const double *sf, double *A, double *R)
 {
@@ -186,7 +238,7 @@ SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, dou
   const double ir2 = 1.0 / (rho_f * rho_f);
   for (int k = 0; k < 6; k++) A[k] = sig[k] * ir2;
   if (!with_as) return;
-  if (mt.as_eps > 0.0) artificial_stress(mt.as_eps, sig, rho_f, dim, R);
+  if (mt.as_eps > 0.0 && !no_positive_eigenvalue(sig)) artificial_stress(mt.as_eps, sig, rho_f, dim, R);
   else for (int k = 0; k < 6; k++) R[k] = 0.0;
 }
 
