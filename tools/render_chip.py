@@ -2,7 +2,7 @@
 """Render the chip of a cutting run from a dump_sph file (columns id type x y z temperature ...)
 with the OVITO Python module's software ray tracer (Tachyon; no display needed): workpiece
 particles coloured by temperature, tool particles grey, seen obliquely from the free side.
-Usage: render_chip.py DUMP PNG [--crop XMIN]   (python from tools/python-deps.sh --print-python;
+Usage: render_chip.py DUMP PNG [--crop XMIN] [--trange TLO THI]   (python from tools/python-deps.sh --print-python;
 OVITO renders through Vulkan: on a machine without a GPU install the Debian package mesa-vulkan-drivers)
 --crop: only particles with x >= XMIN (m), the region around the tool."""
 import sys
@@ -13,7 +13,7 @@ from ovito.modifiers import ColorCodingModifier, ExpressionSelectionModifier, De
 from ovito.vis import Viewport, TachyonRenderer
 
 
-def main(dump, png, xmin=None):
+def main(dump, png, xmin=None, trange=(300.0, 1400.0)):
     pipe = import_file(dump)
     # particle radius: half the spacing (ids 1 and 2 are neighbours along x in the examples)
     p0 = pipe.source.data.particles
@@ -29,7 +29,7 @@ def main(dump, png, xmin=None):
     zmid = 0.5 * (pos[:, 2].min() + pos[:, 2].max())
     pipe.modifiers.append(ExpressionSelectionModifier(expression=f"ParticleType == 2 && Position.Z > {zmid}"))
     pipe.modifiers.append(DeleteSelectedModifier())
-    pipe.modifiers.append(ColorCodingModifier(property="temperature", start_value=300.0, end_value=1400.0,
+    pipe.modifiers.append(ColorCodingModifier(property="temperature", start_value=trange[0], end_value=trange[1],
                                               gradient=ColorCodingModifier.Jet()))
     pipe.modifiers.append(ExpressionSelectionModifier(expression="ParticleType == 2"))
     pipe.modifiers.append(AssignColorModifier(color=(0.55, 0.55, 0.6)))
@@ -49,4 +49,9 @@ if __name__ == "__main__":
         k = sys.argv.index("--crop")
         xmin = float(sys.argv[k + 1])
         del sys.argv[k:k + 2]
-    main(sys.argv[1], sys.argv[2], xmin)
+    trange = (300.0, 1400.0)
+    if "--trange" in sys.argv:
+        k = sys.argv.index("--trange")
+        trange = (float(sys.argv[k + 1]), float(sys.argv[k + 2]))
+        del sys.argv[k:k + 3]
+    main(sys.argv[1], sys.argv[2], xmin, trange)
