@@ -179,16 +179,7 @@ template <class DeviceType> struct ContactKernel {
     {
       // decomposition by the tool feature of the nearest element (forces on the tool)
       const int feat = feature(best);
-      double *dc = r + R_DECOMP + feat * FixContactTriPenalty::NDECOMP;
-      const double ftm = sphcut::len3(out.ft);
-      for (int k = 0; k < 2; k++) {
-        dc[k] -= out.fn * in.n[k];
-        dc[2 + k] -= out.ft[k];
-      }
-      dc[4] += 1.0;
-      dc[5] += out.fn;
-      dc[6] += ftm;
-      dc[7] += out.slip;
+      const double ftm = sphcut::decompose_contact(out, in.n, r + R_DECOMP + feat * FixContactTriPenalty::NDECOMP);
       fout(i, 3) = out.fn;
       fout(i, 4) = ftm;
       fout(i, 5) = feat + 1;

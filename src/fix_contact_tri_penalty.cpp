@@ -678,16 +678,7 @@ void FixContactTriPenalty::post_force(int)
     // decomposition by the tool feature of the closest element (forces on the tool)
     {
       const int feat = elem_feature[best];
-      double *dc = decomp[feat];
-      const double ftm = sphcut::len3(out.ft);
-      for (int k = 0; k < 2; k++) {
-        dc[k] -= out.fn * in.n[k];
-        dc[2 + k] -= out.ft[k];
-      }
-      dc[4] += 1.0;
-      dc[5] += out.fn;
-      dc[6] += ftm;
-      dc[7] += out.slip;
+      const double ftm = sphcut::decompose_contact(out, in.n, decomp[feat]);
       fcontact[i][3] = out.fn;
       fcontact[i][4] = ftm;
       fcontact[i][5] = feat + 1;

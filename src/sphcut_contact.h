@@ -520,6 +520,23 @@ SPHCUT_INLINE double tri_bin_closest(const TriBinView &g, int e, const double *p
   return closest_point_segment(pp, v, v + 3, q, region);
 }
 
+/* the bins a query of radius around x covers (ilo..ihi per direction; z a single bin for 2D
+   segments); false when the sphere misses the grid */
+SPHCUT_INLINE bool tri_bin_range(const TriBinView &g, const double *x, double radius, int *ilo, int *ihi)
+{
+  const int nd = g.nvert == 3 ? 3 : 2;
+  const double pad = 1.0e-9 * g.size;
+  ilo[2] = ihi[2] = 0;
+  for (int k = 0; k < nd; k++) {
+    const double flo = floor((x[k] - radius - pad - g.lo[k]) / g.size);
+    const double fhi = floor((x[k] + radius + pad - g.lo[k]) / g.size);
+    if (fhi < 0.0 || flo > g.n[k] - 1.0) return false;
+    ilo[k] = flo < 0.0 ? 0 : (int) flo;
+    ihi[k] = fhi > g.n[k] - 1.0 ? g.n[k] - 1 : (int) fhi;
+  }
+  return true;
+}
+
 /* ----------------------------------------------------------------------
    all elements within distance radius of x (tool frame; segments: the
    distance in the x-y plane).  Ids go to out[0..maxout-1] without
@@ -532,15 +549,8 @@ SPHCUT_INLINE int tri_bin_query(const TriBinView &g, const double *x, double rad
 {
   if (g.nelem <= 0 || g.n[0] <= 0) return 0;
   const int nd = g.nvert == 3 ? 3 : 2;
-  const double pad = 1.0e-9 * g.size;
-  int ilo[3] = {0, 0, 0}, ihi[3] = {0, 0, 0};
-  for (int k = 0; k < nd; k++) {
-    const double flo = floor((x[k] - radius - pad - g.lo[k]) / g.size);
-    const double fhi = floor((x[k] + radius + pad - g.lo[k]) / g.size);
-    if (fhi < 0.0 || flo > g.n[k] - 1.0) return 0;
-    ilo[k] = flo < 0.0 ? 0 : (int) flo;
-    ihi[k] = fhi > g.n[k] - 1.0 ? g.n[k] - 1 : (int) fhi;
-  }
+  int ilo[3], ihi[3];
+  if (!tri_bin_range(g, x, radius, ilo, ihi)) return 0;
   const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
   const double r2 = radius * radius;
   int count = 0;
@@ -587,15 +597,8 @@ SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double r
   region = 0;
   if (g.nelem <= 0 || g.n[0] <= 0) return -1;
   const int nd = g.nvert == 3 ? 3 : 2;
-  const double pad = 1.0e-9 * g.size;
-  int ilo[3] = {0, 0, 0}, ihi[3] = {0, 0, 0};
-  for (int k = 0; k < nd; k++) {
-    const double flo = floor((x[k] - radius - pad - g.lo[k]) / g.size);
-    const double fhi = floor((x[k] + radius + pad - g.lo[k]) / g.size);
-    if (fhi < 0.0 || flo > g.n[k] - 1.0) return -1;
-    ilo[k] = flo < 0.0 ? 0 : (int) flo;
-    ihi[k] = fhi > g.n[k] - 1.0 ? g.n[k] - 1 : (int) fhi;
-  }
+  int ilo[3], ihi[3];
+  if (!tri_bin_range(g, x, radius, ilo, ihi)) return -1;
   const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
   const double r2 = radius * radius;
   int best = -1;
@@ -642,6 +645,23 @@ SPHCUT_INLINE int tool_surface(const TriBinView &g, const double *xt, double h, 
   d = g.nvert == 3 ? contact_normal(xt, v, v + 3, v + 6, q, reg, 0, n)
                    : contact_normal_segment(xt, v, v + 3, q, reg, 0, n);
   return e;
+}
+
+/* a contact's share of the decomposition by tool feature (fix contact/tri-penalty vector 16-47):
+   dc[0..1] normal force on the tool x y, dc[2..3] friction force on the tool x y, dc[4] contacts,
+   dc[5] sum F_N, dc[6] sum |F_T|, dc[7] contacts at the Coulomb limit; returns |F_T| */
+SPHCUT_INLINE double decompose_contact(const ContactOut &out, const double *n, double *dc)
+{
+  const double ftm = len3(out.ft);
+  for (int k = 0; k < 2; k++) {
+    dc[k] -= out.fn * n[k];
+    dc[2 + k] -= out.ft[k];
+  }
+  dc[4] += 1.0;
+  dc[5] += out.fn;
+  dc[6] += ftm;
+  dc[7] += out.slip;
+  return ftm;
 }
 
 /* the per-particle state of friction with memory, fm[0..2] the friction force of the particle's
