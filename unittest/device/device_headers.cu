@@ -1,0 +1,47 @@
+// The shared physics headers (src/sphcut_*.h) compile as CUDA device code: every entry point the
+// /kk styles call, instantiated in one kernel with inputs read from memory (nothing folds away).
+// A host-only construct in a header (std::, an allocation, a call of a host function: nvcc only
+// warns about that, --Werror all-warnings makes it fail) fails this test.
+// ctest runs it where nvcc exists (test_device_headers); no GPU is needed.
+#include "sphcut_pair.h"
+#include "sphcut_solid.h"
+#include "sphcut_thermal.h"
+#include "sphcut_contact.h"
+#include "sphcut_kernels.h"
+using namespace sphcut;
+struct Sink { double *a; __host__ __device__ void operator()(int k, double v) const { a[k] += v; } };
+__global__ void k(const Material *mat, double *s, double *acc, TriBinView g, double *out, const PairIn *pin, const ContactIn *cin)
+{
+  PairIn in = pin[0];
+  PairOut po{};
+  pair_terms<3>(0, in, po);
+  pair_terms<2>(1, in, po);
+  Sink sink{acc};
+  pair_accumulate<3>(in, po, 1.0, 1.0, 1.0, 1.0, sink);
+  pair_accumulate<2>(in, po, 1.0, 1.0, 1.0, -1.0, sink);
+  double drho, ds[6], du, A[6], R[6];
+  particle_rates(mat[0], 3, 1, acc, s, 1.0, drho, ds, du);
+  particle_stress(mat[0], 3, 1, 1.0, 300.0, s, A, R);
+  double x[3] = {s[1], s[2], s[3]}, v[3] = {s[4], s[5], s[6]}, f[3] = {s[7], s[8], s[9]};
+  integrate_first_half(mat[0], 0, 1e-9, 1.0, x, v, f, s);
+  out[0] = integrate_second_half(mat[0], 0, 1e-9, 1.0, 1.0, v, f, s);
+  out[1] = particle_dt(mat[0], 0, 1e-4, v, 0.3);
+  zero_rates(s);
+  FmfsAccum<3> a3; fmfs_zero<3>(a3);
+  double r[3] = {s[10], s[11], s[12]}, gg[3] = {s[13], s[14], s[15]}, wts[12], lap;
+  fmfs_add<3>(a3, r, gg, 1.0, 1.0);
+  out[2] = fmfs_weights<3>(a3, wts) + fmfs_laplacian<3>(a3, lap) + surface_lambda<3>(a3.B);
+  FmfsAccum<2> a2; fmfs_zero<2>(a2); fmfs_add<2>(a2, r, gg, 1.0, 1.0);
+  out[3] = fmfs_weights<2>(a2, wts) + fmfs_pair_weight<3>(wts, r, gg) + thermal_dt_limit(1, 1, 1, 1, 0.1, 1);
+  double n[3], q[3], d, qc, qr;
+  surface_normal<3>(a3.B, gg, n);
+  surface_losses(3, 1.0, 300.0, 1.0, 300.0, 1.0, 300.0, qc, qr);
+  int e = tool_surface(g, x, 1e-4, d, n, q);
+  ContactIn ci = cin[0]; ContactOut co;
+  ci.friction_memory = e & 1;
+  memory_friction_input(s, true, false, ci.ft_old);
+  memory_friction_step(s);
+  penalty_contact(ci, co);
+  out[4] = decompose_contact(co, n, acc) + mu_table(r, gg, 2, 300.0) + penalty_dt_limit(1, 1, 0.1, 1) +
+           kernel_w(0, 3, 0.5, 1.0) + near_contact(d, 1, 1.2, 1, 1e-9) + dirichlet_index(1, 1, &e, 1);
+}
