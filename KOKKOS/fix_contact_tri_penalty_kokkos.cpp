@@ -514,6 +514,13 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::end_of_
   if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_fout.sync_host();
 }
 
+// between runs the per-atom output is on the host for any consumer
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_run()
+{
+  k_fout.sync_host();
+  peratom_freq = 1;
+}
+
 // the rigid tool particles move with the tool
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_velocity_device()
 {

@@ -42,6 +42,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   void setup(int) override;
   void post_force(int) override;
   void end_of_step() override;
+  void post_run() override;
   int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;

@@ -421,6 +421,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
 {
   k_state.sync_host();    // the state readable after the run (library interface, tests)
+  peratom_freq = 1;       // between runs the host copy is current: any consumer (write_dump, ...)
   if (remap && !grow_callback) {
     // between runs the rows follow by index again.  Atom::add_callback only registers the fix
     // being constructed, so the callback goes back into Atom's list here as it would there.

@@ -258,6 +258,14 @@ TEST(Kokkos, ClearErrors)
     l.cmds({"thermo 50", "compute t all reduce max f_sph[12]", "fix p all print 7 \"$(c_t)\" screen no"});
     EXPECT_TRUE(l.error_contains("run 20", "not computed at compatible time"));
   }
+  {
+    // between runs the host copy is current: write_dump (a dump of frequency 1) of the state works
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds(collision("off"));
+    l.cmds({"thermo 50", "run 20", "write_dump all custom kk-state.dump id f_sph[1] f_sph[12] modify sort id"});
+    std::ifstream in("kk-state.dump");
+    EXPECT_TRUE(in.good());
+  }
 }
 
 /* ----------------------------------------------------------------------
