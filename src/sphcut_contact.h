@@ -537,6 +537,35 @@ SPHCUT_INLINE bool tri_bin_range(const TriBinView &g, const double *x, double ra
   return true;
 }
 
+/* every element listed in the bins around x whose closest point lies within distance radius
+   (tool frame; segments: the distance in the x-y plane), bin by bin: visit(e, d2, q, region),
+   d2 = |x - q|^2.  The embedded sphere of each element is the cheap prefilter (seed 000).  An
+   element listed in several bins is visited once per bin. */
+template <class Visit>
+SPHCUT_INLINE void tri_bin_visit(const TriBinView &g, const double *x, double radius, Visit &&visit)
+{
+  if (g.nelem <= 0 || g.n[0] <= 0) return;
+  int ilo[3], ihi[3];
+  if (!tri_bin_range(g, x, radius, ilo, ihi)) return;
+  const double xx[3] = {x[0], x[1], g.nvert == 3 ? x[2] : 0.0};
+  const double r2 = radius * radius;
+  for (int iz = ilo[2]; iz <= ihi[2]; iz++)
+    for (int iy = ilo[1]; iy <= ihi[1]; iy++)
+      for (int ix = ilo[0]; ix <= ihi[0]; ix++) {
+        const int bin = (iz * g.n[1] + iy) * g.n[0] + ix;
+        for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
+          const int e = g.index[m];
+          const double *s = g.sphere + 4 * e;
+          const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
+          if (dc2 > sq(radius + s[3])) continue;
+          double q[3];
+          int region;
+          const double d2 = tri_bin_closest(g, e, xx, q, region);
+          if (d2 <= r2) visit(e, d2, q, region);
+        }
+      }
+}
+
 /* ----------------------------------------------------------------------
    all elements within distance radius of x (tool frame; segments: the
    distance in the x-y plane).  Ids go to out[0..maxout-1] without
@@ -547,84 +576,41 @@ SPHCUT_INLINE bool tri_bin_range(const TriBinView &g, const double *x, double ra
 SPHCUT_INLINE int tri_bin_query(const TriBinView &g, const double *x, double radius, int *out,
                                 int maxout)
 {
-  if (g.nelem <= 0 || g.n[0] <= 0) return 0;
-  const int nd = g.nvert == 3 ? 3 : 2;
-  int ilo[3], ihi[3];
-  if (!tri_bin_range(g, x, radius, ilo, ihi)) return 0;
-  const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
-  const double r2 = radius * radius;
   int count = 0;
-  for (int iz = ilo[2]; iz <= ihi[2]; iz++)
-    for (int iy = ilo[1]; iy <= ihi[1]; iy++)
-      for (int ix = ilo[0]; ix <= ihi[0]; ix++) {
-        const int bin = (iz * g.n[1] + iy) * g.n[0] + ix;
-        for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
-          const int e = g.index[m];
-          // seed 000: embedded sphere as prefilter
-          const double *s = g.sphere + 4 * e;
-          const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
-          if (dc2 > sq(radius + s[3])) continue;
-          double q[3];
-          int region;
-          if (tri_bin_closest(g, e, xx, q, region) > r2) continue;
-          bool dup = false;
-          const int nstored = count < maxout ? count : maxout;
-          for (int j = 0; j < nstored; j++)
-            if (out[j] == e) { dup = true; break; }
-          if (dup) continue;
-          // an overflowed list cannot be deduplicated: count stays an upper bound
-          if (count < maxout) out[count] = e;
-          count++;
-        }
-      }
+  tri_bin_visit(g, x, radius, [&](int e, double, const double *, int) {
+    const int nstored = count < maxout ? count : maxout;
+    for (int j = 0; j < nstored; j++)
+      if (out[j] == e) return;
+    // an overflowed list cannot be deduplicated: count stays an upper bound
+    if (count < maxout) out[count] = e;
+    count++;
+  });
   return count;
 }
-
 
 /* ----------------------------------------------------------------------
    the nearest element to x (tool frame) among those within distance
    radius: its id (-1: none), closest point q and feature region.  Ties
    (within 1e-12 relative) go to a face over an edge or vertex, so the
-   normal of a particle over a face interior is the face normal.  One
-   closest-point evaluation per element and bin, no candidate buffer
-   (the device path cannot grow one); an element listed in several bins
-   is evaluated again there, which cannot change the choice.
+   normal of a particle over a face interior is the face normal.  No
+   candidate buffer (the device path cannot grow one); an element visited
+   again in another bin cannot change the choice.
 ------------------------------------------------------------------------- */
 
 SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double radius, double *q,
                                   int &region)
 {
   region = 0;
-  if (g.nelem <= 0 || g.n[0] <= 0) return -1;
-  const int nd = g.nvert == 3 ? 3 : 2;
-  int ilo[3], ihi[3];
-  if (!tri_bin_range(g, x, radius, ilo, ihi)) return -1;
-  const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
-  const double r2 = radius * radius;
   int best = -1;
   double bestd2 = 1.0e300;
-  for (int iz = ilo[2]; iz <= ihi[2]; iz++)
-    for (int iy = ilo[1]; iy <= ihi[1]; iy++)
-      for (int ix = ilo[0]; ix <= ihi[0]; ix++) {
-        const int bin = (iz * g.n[1] + iy) * g.n[0] + ix;
-        for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
-          const int e = g.index[m];
-          const double *s = g.sphere + 4 * e;
-          const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
-          if (dc2 > sq(radius + s[3])) continue;
-          double qe[3];
-          int reg;
-          const double d2 = tri_bin_closest(g, e, xx, qe, reg);
-          if (d2 > r2) continue;
-          if (d2 < bestd2 * (1.0 - 1.0e-12) ||
-              (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == FACE && region != FACE)) {
-            best = e;
-            bestd2 = d2;
-            region = reg;
-            for (int k = 0; k < 3; k++) q[k] = qe[k];
-          }
-        }
-      }
+  tri_bin_visit(g, x, radius, [&](int e, double d2, const double *qe, int reg) {
+    if (d2 < bestd2 * (1.0 - 1.0e-12) || (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == FACE && region != FACE)) {
+      best = e;
+      bestd2 = d2;
+      region = reg;
+      for (int k = 0; k < 3; k++) q[k] = qe[k];
+    }
+  });
   return best;
 }
 
@@ -632,7 +618,7 @@ SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double r
    the tool surface seen by a particle at xt (tool frame): nearest element
    within 2h (particles deeper than the contact radius still find the
    surface), signed distance d (< 0 inside), outward unit normal n, point q
-   (tool frame).  False when no element lies within 2h.
+   (tool frame).  Returns the element, -1 when none lies within 2h.
 ------------------------------------------------------------------------- */
 
 SPHCUT_INLINE int tool_surface(const TriBinView &g, const double *xt, double h, double &d, double *n,
