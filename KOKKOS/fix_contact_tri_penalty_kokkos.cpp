@@ -64,7 +64,7 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_int_1d_const mask, type;
   typename AT::t_float_1d_const rmass, mass;
   typename AT::t_double_2d state;
-  typename AT::t_double_1d qtw;
+  typename AT::t_double_2d qtw;       // tool heat per kernel weight (one column)
   typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
   typename AT::t_neighbors_2d neighbors;
   typename AT::t_int_1d_const numneigh;
@@ -110,7 +110,7 @@ template <class DeviceType> struct ContactKernel {
     }
     fc[0] = fc[1] = fc[2] = 0.0;
     for (int k = 0; k < 6; k++) fout(i, k) = 0.0;
-    qtw(i) = 0.0;
+    qtw(i, 0) = 0.0;
     if (!setup) {
       for (int k = 0; k < 3; k++) vc[k] = v(i, k);
       vc[3] = 1.0;
@@ -224,7 +224,7 @@ template <class DeviceType> struct ContactKernel {
         wsum += sphcut::kernel_w(kernel, dim, sqrt(r2), hh);
       }
       if (wsum > 0.0) {
-        qtw(i) = qt / wsum;
+        qtw(i, 0) = qt / wsum;
         r[R_QTOOL] += qt * acc;
         return;
       }
@@ -348,7 +348,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   sphcut::FencedTimer timer(cpu_time);
   atomKK->sync(execution_space, datamask_read);
   fixkk->k_state.template sync<DeviceType>();
-  if ((int) k_qtw.extent(0) < atom->nmax) k_qtw = DAT::tdual_double_1d("contact:qtw", atom->nmax);
+  if ((int) k_qtw.extent(0) < atom->nmax) k_qtw = DAT::tdual_double_2d("contact:qtw", atom->nmax, 1);
   k_qtw.template sync<DeviceType>();
   if (atom->nmax > nmax_out) {
     nmax_out = atom->nmax;
@@ -484,12 +484,12 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
         double p = 0.0;
         for (int ii = 0; ii < numneigh(j); ii++) {
           const int i = neighbors(j, ii) & NEIGHMASK;
-          if (!(qtw(i) > 0.0)) continue;
+          if (!(qtw(i, 0) > 0.0)) continue;
           double r2 = 0.0;
           for (int k = 0; k < 3; k++) r2 += (x(i, k) - x(j, k)) * (x(i, k) - x(j, k));
           const double hh = hij(type(i) * ntp + type(j));
           if (r2 >= 4.0 * hh * hh) continue;
-          p += qtw(i) * sphcut::kernel_w(kern, dim, sqrt(r2), hh);
+          p += qtw(i, 0) * sphcut::kernel_w(kern, dim, sqrt(r2), hh);
         }
         if (!(p > 0.0) || !(mask(j) & hb)) return;
         const double cp = mat(type(j)).cp;
@@ -546,40 +546,25 @@ int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, 
                                                                           int iswap, DAT::tdual_xfloat_1d &k_buf,
                                                                           int, int *)
 {
-  k_qtw.template sync<DeviceType>();
-  auto list_ = k_sendlist.view<DeviceType>();
-  auto buf = k_buf.view<DeviceType>();
-  auto q = k_qtw.template view<DeviceType>();
-  Kokkos::parallel_for(
-      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { buf(ii) = q(list_(iswap, ii)); });
-  return n;
+  return sphcut::pack_columns<DeviceType>(k_qtw, 0, 1, n, k_sendlist, iswap, k_buf);
 }
 
 template <class DeviceType>
 void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first,
                                                                              DAT::tdual_xfloat_1d &k_buf)
 {
-  k_qtw.template sync<DeviceType>();
-  auto buf = k_buf.view<DeviceType>();
-  auto q = k_qtw.template view<DeviceType>();
-  Kokkos::parallel_for(
-      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) { q(first + ii) = buf(ii); });
-  k_qtw.template modify<DeviceType>();
+  sphcut::unpack_columns<DeviceType>(k_qtw, 0, 1, n, first, k_buf);
 }
 
 template <class DeviceType>
 int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
-  k_qtw.sync_host();
-  for (int ii = 0; ii < n; ii++) buf[ii] = k_qtw.h_view(list_[ii]);
-  return n;
+  return sphcut::pack_columns_host(k_qtw, 1, n, list_, buf);
 }
 
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  k_qtw.sync_host();
-  for (int i = 0; i < n; i++) k_qtw.h_view(first + i) = buf[i];
-  k_qtw.modify_host();
+  sphcut::unpack_columns_host(k_qtw, 1, n, first, buf);
 }
 
 namespace LAMMPS_NS {

@@ -57,7 +57,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   Kokkos::View<sphcut::Material *, mem> d_mat;
   Kokkos::View<double *, mem> d_h, d_dp, d_hij;  // per type (h, spacing), per type pair (h)
   Kokkos::View<double *, mem> d_mut, d_muv;      // mu(T) table
-  DAT::tdual_double_1d k_qtw;                    // tool heat per kernel weight of each contact particle
+  DAT::tdual_double_2d k_qtw;                    // tool heat per kernel weight of each contact particle (1 column)
   DAT::tdual_double_2d k_fout;                   // per-atom output (host view = fcontact)
   Kokkos::View<int *, mem> d_feature;            // tool feature of each element
   void upload();

@@ -433,49 +433,25 @@ template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
                                                                  DAT::tdual_xfloat_1d &k_buf, int, int *)
 {
-  k_fwts.template sync<DeviceType>();
-  auto list_ = k_sendlist.view<DeviceType>();
-  auto buf = k_buf.view<DeviceType>();
-  auto fw = k_fwts.template view<DeviceType>();
-  Kokkos::parallel_for(
-      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
-        const int j = list_(iswap, ii);
-        for (int k = 0; k < NW; k++) buf(ii * NW + k) = fw(j, k);
-      });
-  return n * NW;
+  return sphcut::pack_columns<DeviceType>(k_fwts, 0, NW, n, k_sendlist, iswap, k_buf);
 }
 
 template <class DeviceType>
 void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
 {
-  k_fwts.template sync<DeviceType>();
-  auto buf = k_buf.view<DeviceType>();
-  auto fw = k_fwts.template view<DeviceType>();
-  Kokkos::parallel_for(
-      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
-        for (int k = 0; k < NW; k++) fw(first + ii, k) = buf(ii * NW + k);
-      });
-  k_fwts.template modify<DeviceType>();
+  sphcut::unpack_columns<DeviceType>(k_fwts, 0, NW, n, first, k_buf);
 }
 
 // the classic (host) path of the forward communication
 template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
-  k_fwts.sync_host();
-  int m = 0;
-  for (int ii = 0; ii < n; ii++)
-    for (int k = 0; k < NW; k++) buf[m++] = k_fwts.h_view(list_[ii], k);
-  return m;
+  return sphcut::pack_columns_host(k_fwts, NW, n, list_, buf);
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  k_fwts.sync_host();
-  int m = 0;
-  for (int i = first; i < first + n; i++)
-    for (int k = 0; k < NW; k++) k_fwts.h_view(i, k) = buf[m++];
-  k_fwts.modify_host();
+  sphcut::unpack_columns_host(k_fwts, NW, n, first, buf);
 }
 
 /* ----------------------------------------------------------------------

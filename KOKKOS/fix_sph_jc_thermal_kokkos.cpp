@@ -344,29 +344,13 @@ int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::
                                                                      int iswap, DAT::tdual_xfloat_1d &k_buf,
                                                                      int, int *)
 {
-  k_state.template sync<DeviceType>();
-  auto list = k_sendlist.view<DeviceType>();
-  auto buf = k_buf.view<DeviceType>();
-  auto st = k_state.template view<DeviceType>();
-  Kokkos::parallel_for(
-      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
-        const int j = list(iswap, ii);
-        for (int k = 0; k < NFORWARD; k++) buf(ii * NFORWARD + k) = st(j, FORWARD_FIRST + k);
-      });
-  return n * NFORWARD;
+  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, iswap, k_buf);
 }
 
 template <class DeviceType>
 void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
 {
-  k_state.template sync<DeviceType>();
-  auto buf = k_buf.view<DeviceType>();
-  auto st = k_state.template view<DeviceType>();
-  Kokkos::parallel_for(
-      sphcut::range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
-        for (int k = 0; k < NFORWARD; k++) st(first + ii, FORWARD_FIRST + k) = buf(ii * NFORWARD + k);
-      });
-  k_state.template modify<DeviceType>();
+  sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -40,6 +40,57 @@ template <class DeviceType> inline auto range(int begin, int end)
                                        Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
 
+// forward communication of the per-atom columns col0 .. col0 + ncol - 1 of a DualView, on the
+// device (pack_/unpack_forward_comm_fix_kokkos of the /kk fixes) and on the host (the classic
+// path of CommKokkos)
+template <class DeviceType>
+int pack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n,
+                 ::DAT::tdual_int_2d k_sendlist, int iswap, ::DAT::tdual_xfloat_1d &k_buf)
+{
+  k.template sync<DeviceType>();
+  auto list = k_sendlist.view<DeviceType>();
+  auto buf = k_buf.view<DeviceType>();
+  auto v = k.template view<DeviceType>();
+  Kokkos::parallel_for(
+      range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+        const int j = list(iswap, ii);
+        for (int c = 0; c < ncol; c++) buf(ii * ncol + c) = v(j, col0 + c);
+      });
+  return n * ncol;
+}
+
+template <class DeviceType>
+void unpack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, int first,
+                    ::DAT::tdual_xfloat_1d &k_buf)
+{
+  k.template sync<DeviceType>();
+  auto buf = k_buf.view<DeviceType>();
+  auto v = k.template view<DeviceType>();
+  Kokkos::parallel_for(
+      range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+        for (int c = 0; c < ncol; c++) v(first + ii, col0 + c) = buf(ii * ncol + c);
+      });
+  k.template modify<DeviceType>();
+}
+
+inline int pack_columns_host(::DAT::tdual_double_2d &k, int ncol, int n, const int *list, double *buf)
+{
+  k.sync_host();
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int c = 0; c < ncol; c++) buf[m++] = k.h_view(list[ii], c);
+  return m;
+}
+
+inline void unpack_columns_host(::DAT::tdual_double_2d &k, int ncol, int n, int first, const double *buf)
+{
+  k.sync_host();
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int c = 0; c < ncol; c++) k.h_view(i, c) = buf[m++];
+  k.modify_host();
+}
+
 // whether the /kk styles' timers wait for the device (fix sph/jc-thermal keyword fence): a fence
 // after every hook makes the timing table exact but stops the host from queueing the next
 // kernels while the device works (measured: the 2D cut at 41 across, bench/gpu/RESULTS.md)
