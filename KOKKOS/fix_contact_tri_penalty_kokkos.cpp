@@ -244,8 +244,7 @@ template <class DeviceType> struct ContactKernel {
 
 template <class DeviceType>
 FixContactTriPenaltyKokkos<DeviceType>::FixContactTriPenaltyKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixContactTriPenalty(sphcut::require_kokkos(lmp, "Fix contact/tri-penalty/kk"), narg, arg), fixkk(nullptr),
-    q_src_tool(0.0)
+    FixContactTriPenalty(sphcut::require_kokkos(lmp, "Fix contact/tri-penalty/kk"), narg, arg), fixkk(nullptr)
 {
   if (mustyle == MU_VARIABLE)
     error->all(FLERR, "Fix contact/tri-penalty/kk: mu v_{} (a LAMMPS variable per particle) cannot be "
@@ -444,8 +443,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   }
   if (tool_particles && heat) {
     sphcut::forward_comm(comm, this);
-    tool_heat_gather();
-    q_sources += q_src_tool;
+    q_sources += tool_heat_gather();
   }
   if (heat) heat->book_sources(q_sources);
   if (!update->setupflag) {
@@ -456,7 +454,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
 
 /* the tool particles take the tool's share of the friction heat of the contact particles
    around them, kernel weighted (the CPU fix scatters it from the contact particle's side) */
-template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
+template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
   k_qtw.template sync<DeviceType>();
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
@@ -500,7 +498,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
       },
       q);
   fixkk->k_state.template modify<DeviceType>();
-  q_src_tool = q;
+  return q;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -62,8 +62,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   Kokkos::View<int *, mem> d_feature;            // tool feature of each element
   void upload();
   void tool_velocity_device();
-  void tool_heat_gather();
-  double q_src_tool;                             // heat the gather added to tool particles (energy)
+  double tool_heat_gather();                     // returns the heat it added to the tool particles (energy)
 };
 
 }    // namespace LAMMPS_NS

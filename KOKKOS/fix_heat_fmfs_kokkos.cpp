@@ -132,21 +132,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 {
   check_timestep();
   if (!dirichlet.empty()) {
-    // Dirichlet particles start at their temperature
-    atomKK->sync(execution_space, MASK_MASK);
-    fixkk->k_state.template sync<DeviceType>();
-    auto st = fixkk->k_state.template view<DeviceType>();
-    auto mask = atomKK->k_mask.view<DeviceType>();
-    auto db = d_dirbit;
-    auto dtemp = d_dirtemp;
-    const int gb = groupbit, nd = (int) dirichlet.size();
-    Kokkos::parallel_for(
-        sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
-          const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
-          if (k < 0) return;
-          st(i, FixSPHJCThermal::TEMP) = st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
-        });
-    fixkk->k_state.template modify<DeviceType>();
+    set_dirichlet(true);    // Dirichlet particles start at their temperature
     sphcut::forward_comm(comm, fix);
   }
   post_force(vflag);
@@ -462,17 +448,26 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::initial_integrat
 {
   if (dirichlet.empty()) return;
   sphcut::FencedTimer timer(cpu_time);
+  set_dirichlet(false);
+}
+
+// Dirichlet particles to their temperature: the predicted one (TEMP_F), with also_temp the
+// temperature itself (setup)
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet(bool also_temp)
+{
   atomKK->sync(execution_space, MASK_MASK);
   fixkk->k_state.template sync<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
   auto db = d_dirbit;
   auto dtemp = d_dirtemp;
-  const int gb = groupbit, nd = (int) dirichlet.size();
+  const int gb = groupbit, nd = (int) dirichlet.size(), both = also_temp;
   Kokkos::parallel_for(
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
-        if (k >= 0) st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
+        if (k < 0) return;
+        st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
+        if (both) st(i, FixSPHJCThermal::TEMP) = dtemp(k);
       });
   fixkk->k_state.template modify<DeviceType>();
 }

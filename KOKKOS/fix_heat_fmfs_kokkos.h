@@ -58,6 +58,7 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   template <int DIM> void conduction_kk();
   template <int DIM> void conduction_conservative_kk();
   void add_held();
+  void set_dirichlet(bool also_temp);
 };
 
 }    // namespace LAMMPS_NS
