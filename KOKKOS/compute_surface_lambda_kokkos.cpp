@@ -76,11 +76,7 @@ template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::compute
     array_atom = out;
     last_step = -1;
   }
-  if (last_step >= 0 && !update->setupflag && neighbor->lastcall <= last_neigh &&
-      update->ntimestep - last_step < every)
-    return;
-  last_step = update->ntimestep;
-  last_neigh = neighbor->lastcall;
+  if (!recompute_due()) return;
   if (domain->dimension == 2) kernel<2>();
   else kernel<3>();
 }

@@ -98,15 +98,22 @@ void ComputeSurfaceLambda::compute_peratom()
     array_atom = out;
     last_step = -1;
   }
-  // the setup of a run always recomputes: it rebuilds the lists (and may re-sort the atoms) at
-  // the time step the previous run ended on, so lastcall alone cannot tell
-  if (last_step >= 0 && !update->setupflag && neighbor->lastcall <= last_neigh &&
-      update->ntimestep - last_step < every)
-    return;
-  last_step = update->ntimestep;
-  last_neigh = neighbor->lastcall;
+  if (!recompute_due()) return;
   if (domain->dimension == 2) compute_dim<2>();
   else compute_dim<3>();
+}
+
+// whether the values must be computed now (and, if so, the step and list build they are for):
+// the setup of a run always recomputes, as it rebuilds the lists (and may re-sort the atoms) at
+// the time step the previous run ended on, so lastcall alone cannot tell
+bool ComputeSurfaceLambda::recompute_due()
+{
+  if (last_step >= 0 && !update->setupflag && neighbor->lastcall <= last_neigh &&
+      update->ntimestep - last_step < every)
+    return false;
+  last_step = update->ntimestep;
+  last_neigh = neighbor->lastcall;
+  return true;
 }
 
 template <int DIM> void ComputeSurfaceLambda::compute_dim()

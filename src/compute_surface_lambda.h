@@ -46,6 +46,7 @@ class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
   FixSPHJCThermal *fix;
   PairSPHJCThermal *pair;
   template <int DIM> void compute_dim();
+  bool recompute_due();
 };
 
 }    // namespace LAMMPS_NS
