@@ -72,10 +72,11 @@ template <class DeviceType> struct ContactKernel {
   Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
   Kokkos::View<const int *, mem> feature;    // tool feature of each element
   sphcut::TriBinView view;
-  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, dim, setup, stick, nmu, ntp, kernel;
+  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, dim, setup, nmu, ntp, kernel;
   int has_heat, tool_particles, lumped, fmemory;
   double disp[3], vtool[3];
-  double dt, dt_force, etool, pfac, dfac, sfac, vreg, mu0, eta, split, tfac;
+  double dt, etool, pfac, dfac, sfac, mu0, eta, split;
+  sphcut::ContactIn params;    // the fields common to all particles (FixContactTriPenalty::contact_params)
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -122,7 +123,7 @@ template <class DeviceType> struct ContactKernel {
     const int it = type(i);
     const double hi = h(it);
     const double xt[3] = {x(i, 0) - disp[0], x(i, 1) - disp[1], dim == 2 ? 0.0 : x(i, 2) - disp[2]};
-    sphcut::ContactIn in;
+    sphcut::ContactIn in = params;
     double q[3];
     const int best = sphcut::tool_surface(view, xt, hi, in.d, in.n, q);
     if (best < 0) return;
@@ -146,30 +147,15 @@ template <class DeviceType> struct ContactKernel {
     for (int k = 0; k < 3; k++) {
       in.x[k] = x(i, k);
       in.v[k] = vuse[k];
-      in.vtool[k] = vtool[k];
       in.q[k] = q[k] + disp[k];
+      in.f_other[k] = k < dim ? f(i, k) : 0.0;
     }
     in.mass = mi;
     in.h = hi;
     in.E_particle = mat(it).E;
-    in.E_tool = etool;
-    in.m_tool = 0.0;
     in.dp = dpi;
-    in.dim = dim;
-    in.pfac = pfac;
-    in.dfac = dfac;
-    in.sfac = sfac;
     in.mu = nmu > 0 ? sphcut::mu_table(&mut(0), &muv(0), nmu, s[F::TEMP_F]) : mu0;
-    in.v_reg = vreg;
-    in.dt_stick = stick ? dt_force : 0.0;
-    for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f(i, k) : 0.0;
-    if (fmemory) {
-      in.friction_memory = 1;
-      in.tfac = tfac;
-      in.dt = dt_force;
-      in.dt_stick = 0.0;
-      sphcut::memory_friction_input(fm, !setup, repeat, in.ft_old);
-    }
+    if (fmemory) sphcut::memory_friction_input(fm, !setup, repeat, in.ft_old);
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) return;
@@ -373,7 +359,6 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.fout = k_fout.template view<DeviceType>();
   k.feature = d_feature;
   k.fmemory = fmemory;
-  k.tfac = tfac;
   const int tool_particles = toolbit && list;
   if (tool_particles) {
     auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
@@ -395,7 +380,6 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.use_rmass = atom->rmass_flag;
   k.dim = domain->dimension;
   k.setup = update->setupflag;
-  k.stick = stick;
   k.nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
   k.ntp = atom->ntypes + 1;
   k.kernel = pair->kernel();
@@ -407,15 +391,14 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
     k.vtool[d] = vtool[d];
   }
   k.dt = dt;
-  k.dt_force = dt_last;
   k.etool = etool;
   k.pfac = pfac;
   k.dfac = dfac;
   k.sfac = sfac;
-  k.vreg = vreg;
   k.mu0 = mu0;
   k.eta = eta;
   k.split = split;
+  k.params = contact_params(dt_last);
   double r[NRED];
   Kokkos::parallel_reduce(sphcut::range<DeviceType>(0, atom->nlocal), k, r);
   fixkk->k_state.template modify<DeviceType>();

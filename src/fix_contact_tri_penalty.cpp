@@ -553,6 +553,35 @@ double FixContactTriPenalty::friction_coefficient(double temp)
   return m > 0.0 ? m : 0.0;
 }
 
+/* ----------------------------------------------------------------------
+   the fields of sphcut::ContactIn that are the same for every particle of a step (the CPU and
+   /kk drivers start each particle's input from it): tool stiffness and motion, contact
+   parameters and the friction law, dt_force the time step the friction is based on
+------------------------------------------------------------------------- */
+
+sphcut::ContactIn FixContactTriPenalty::contact_params(double dt_force) const
+{
+  sphcut::ContactIn in;
+  for (int k = 0; k < 3; k++) in.vtool[k] = vtool[k];
+  in.E_tool = etool;
+  in.m_tool = 0.0;
+  in.dim = domain->dimension;
+  in.pfac = pfac;
+  in.dfac = dfac;
+  in.sfac = sfac;
+  in.v_reg = vreg;
+  // friction opposes the sliding the particle would have after the step (its pair forces
+  // included) and never exceeds the force that stops it: static friction up to mu F_N
+  in.dt_stick = stick ? dt_force : 0.0;
+  if (fmemory) {
+    in.friction_memory = 1;
+    in.tfac = tfac;
+    in.dt = dt_force;
+    in.dt_stick = 0.0;
+  }
+  return in;
+}
+
 void FixContactTriPenalty::post_force(int)
 {
   sphcut::ScopedTimer timer(cpu_time);
@@ -602,6 +631,7 @@ void FixContactTriPenalty::post_force(int)
       d_old += st[i][F::FCONT + k] * (vtool[k] - atom->v[i][k]);
     }
 
+  const sphcut::ContactIn params = contact_params(dt_force);
   for (int i = 0; i < nlocal; i++) {
     double *fc = &st[i][F::FCONT], *vc = &st[i][F::VCONT], *fm = &st[i][F::FMEM];
     fc[0] = fc[1] = fc[2] = 0.0;
@@ -617,7 +647,7 @@ void FixContactTriPenalty::post_force(int)
     const int it = type[i];
     const double h = pair->smoothing_length(it);
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
-    sphcut::ContactIn in;
+    sphcut::ContactIn in = params;
     double qs[3];
     const int best = sphcut::tool_surface(view, xt, h, in.d, in.n, qs);
     if (best < 0) continue;
@@ -638,37 +668,18 @@ void FixContactTriPenalty::post_force(int)
     // f_old of the memory law: at a step its input set above; a setup evaluation that repeats
     // the last step (a continued run) uses that step's input if the particle had friction then,
     // else the current state (zero after a contact ended)
-    double ft_in[3] = {0.0, 0.0, 0.0};
-    if (fmemory) sphcut::memory_friction_input(fm, !update->setupflag, repeat, ft_in);
+    if (fmemory) sphcut::memory_friction_input(fm, !update->setupflag, repeat, in.ft_old);
     for (int k = 0; k < 3; k++) {
       in.x[k] = x[i][k];
       in.v[k] = vuse[k];
-      in.vtool[k] = vtool[k];
       in.q[k] = qs[k] + disp[k];
+      in.f_other[k] = k < dim ? f[i][k] : 0.0;
     }
     in.mass = mi;
     in.h = h;
     in.E_particle = mat[it].E;
-    in.E_tool = etool;
-    in.m_tool = 0.0;
     in.dp = dpi;
-    in.dim = dim;
-    in.pfac = pfac;
-    in.dfac = dfac;
-    in.sfac = sfac;
     in.mu = friction_coefficient(st[i][F::TEMP_F]);
-    in.v_reg = vreg;
-    // friction opposes the sliding the particle would have after the step (its pair forces
-    // included) and never exceeds the force that stops it: static friction up to mu F_N
-    in.dt_stick = stick ? dt_force : 0.0;
-    for (int k = 0; k < 3; k++) in.f_other[k] = k < dim ? f[i][k] : 0.0;
-    if (fmemory) {
-      in.friction_memory = 1;
-      in.tfac = tfac;
-      in.dt = dt_force;
-      in.dt_stick = 0.0;
-      for (int k = 0; k < 3; k++) in.ft_old[k] = ft_in[k];
-    }
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) continue;

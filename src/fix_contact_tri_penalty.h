@@ -15,6 +15,7 @@ FixStyle(contact/tri-penalty,FixContactTriPenalty);
 #define LMP_FIX_CONTACT_TRI_PENALTY_H
 
 #include "fix.h"
+#include "sphcut_contact.h"
 #include "sphcut_stl.h"
 #include "sphcut_timer.h"
 
@@ -123,6 +124,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   int inside_checked = 0;         // particles inside the tool looked for (first setup)
   int restored = 0;               // global state read from a restart file
   void clear_history();
+  sphcut::ContactIn contact_params(double dt_force) const;
   void warn_inside();
   double spring_dt_crit(int i) const;
 };
