@@ -105,7 +105,7 @@ template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<D
   using F = FixSPHJCThermal;
   if (kl->inum != atom->nlocal) Kokkos::deep_copy(o, 0.0);
 
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:surface:kernel",
       sphcut::range<DeviceType>(0, kl->inum), KOKKOS_LAMBDA(const int ii) {
         const int i = ilist(ii);
         for (int k = 0; k < NCOLS; k++) o(i, k) = 0.0;

@@ -52,6 +52,10 @@ enum {
   R_DTCRIT, NRED
 };
 
+// the device accumulators after the NRED sums of the last step (FixContactTriPenaltyKokkos::d_sums):
+// what the host adds to its totals when it next reads them (fetch)
+enum { A_QWORK = 0, A_QLOST, A_QTOOL, A_QSRC, A_QLUMP, A_TWORK, A_DISS, NACCUM };
+
 template <class DeviceType> struct ContactKernel {
   typedef DeviceType device_type;
   typedef double value_type[];
@@ -77,6 +81,9 @@ template <class DeviceType> struct ContactKernel {
   double disp[3], vtool[3];
   double dt, etool, pfac, dfac, sfac, mu0, eta, split;
   sphcut::ContactIn params;    // the fields common to all particles (FixContactTriPenalty::contact_params)
+  Kokkos::View<double *, mem> sums;    // NRED sums of this step, then the NACCUM accumulators
+  typename AT::t_double_1d dtlim;      // the spring's dt limit for fix sph/jc-thermal/kk (k_dtlim)
+  double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -88,6 +95,21 @@ template <class DeviceType> struct ContactKernel {
     for (int k = 0; k < R_MAXPEN; k++) d[k] += s[k];
     if (s[R_MAXPEN] > d[R_MAXPEN]) d[R_MAXPEN] = s[R_MAXPEN];
     if (s[R_DTCRIT] < d[R_DTCRIT]) d[R_DTCRIT] = s[R_DTCRIT];
+  }
+  // once, on the device, with this rank's sums: the time integrals (as the CPU fix's post_force)
+  // and the dt limit stay on the device; the host reads them when it needs them
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const
+  {
+    sums(NRED + A_QWORK) += r[R_QWORK];
+    sums(NRED + A_QLOST) += r[R_QLOST];
+    sums(NRED + A_QTOOL) += r[R_QTOOL];
+    sums(NRED + A_QSRC) += r[R_QSRC];
+    sums(NRED + A_QLUMP) += r[R_QLUMP];
+    if (!setup) {
+      sums(NRED + A_TWORK) += 0.5 * dt * (r[R_WOLD] + r[R_WORK]);
+      sums(NRED + A_DISS) += 0.5 * dt * (r[R_DOLD] + r[R_DISS]);
+    }
+    dtlim(0) = r[R_DTCRIT] < 1.0e300 ? dtscale * r[R_DTCRIT] : 1.0e300;
   }
 
   // heat (energy/time) into particle i's temperature rate, as FixHeatFMFS::add_heat; true if taken
@@ -315,6 +337,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::setup(i
   atomKK->sync(Host, X_MASK | V_MASK | MASK_MASK | TYPE_MASK);
   fixkk->k_state.sync_host();
   update_tool_velocity();
+  for (int d = 0; d < 3; d++) vtool_dev[d] = vtool[d];
   atomKK->modified(Host, V_MASK);
   if (!inside_checked) {
     warn_inside();
@@ -323,6 +346,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::setup(i
   }
   inside_checked = 1;
   post_force(vflag);
+  fetch();
   if (write_every) write_geometry();
 }
 
@@ -399,15 +423,41 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.eta = eta;
   k.split = split;
   k.params = contact_params(dt_last);
-  double r[NRED];
-  Kokkos::parallel_reduce(sphcut::range<DeviceType>(0, atom->nlocal), k, r);
+  if ((int) d_sums.extent(0) != NRED + NACCUM) {
+    d_sums = Kokkos::View<double *, mem>("contact:sums", NRED + NACCUM);
+    h_sums = Kokkos::create_mirror_view(d_sums);
+  }
+  k.sums = d_sums;
+  k.dtlim = fixkk->k_dtlim.template view<DeviceType>();
+  k.dtscale = dtfac * fixkk->courant();
+  fixkk->k_dtlim.template sync<DeviceType>();
+  // the sums go to d_sums on the device, the accumulators and the dt limit are updated there
+  // (final): no host round trip; fetch() brings them to the host when an output needs them
+  Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, atom->nlocal), k,
+                          Kokkos::subview(d_sums, std::make_pair(0, (int) NRED)));
+  fixkk->k_dtlim.template modify<DeviceType>();
   fixkk->k_state.template modify<DeviceType>();
   k_qtw.template modify<DeviceType>();
   k_fout.template modify<DeviceType>();
   atomKK->modified(execution_space, F_MASK);
+  stale = 1;
+  if (tool_particles && heat) {
+    sphcut::forward_comm(comm, this);
+    tool_heat_gather();
+  }
+}
+
+/* the host copies of the sums and totals (FixContactTriPenalty's members) from the device: the
+   last step's sums, and the accumulated heat and work added to the totals.  Collective (all
+   ranks call it at the same points: outputs, restart, end of run). */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
+{
+  if (!stale) return;
+  stale = 0;
+  Kokkos::deep_copy(h_sums, d_sums);
+  const double *r = h_sums.data(), *a = r + NRED;
   for (int ft = 0; ft < NFEAT; ft++)
     for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = r[R_DECOMP + ft * NDECOMP + c];
-
   for (int d = 0; d < 3; d++) ftool[d] = r[R_FX + d];
   work_rate = r[R_WORK];
   diss_rate = r[R_DISS];
@@ -415,29 +465,35 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   ncontact = (int) r[R_NCONT];
   maxpen = r[R_MAXPEN];
   dt_crit = r[R_DTCRIT];
-  q_work += r[R_QWORK];
-  q_tool_lost += r[R_QLOST];
-  q_tool += r[R_QTOOL];
-  double q_sources = r[R_QSRC];
+  q_work += a[A_QWORK];
+  q_tool_lost += a[A_QLOST];
+  q_tool += a[A_QTOOL];
+  tool_work += a[A_TWORK];
+  contact_diss += a[A_DISS];
   if (tool_cp > 0.0) {
     double qsum = 0.0;
-    MPI_Allreduce(&r[R_QLUMP], &qsum, 1, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(&a[A_QLUMP], &qsum, 1, MPI_DOUBLE, MPI_SUM, world);
     tool_temp += qsum / tool_cp;
   }
-  if (tool_particles && heat) {
-    sphcut::forward_comm(comm, this);
-    q_sources += tool_heat_gather();
-  }
-  if (heat) heat->book_sources(q_sources);
-  if (!update->setupflag) {
-    tool_work += 0.5 * dt * (r[R_WOLD] + work_rate);
-    contact_diss += 0.5 * dt * (r[R_DOLD] + diss_rate);
-  }
+  if (heat) heat->book_sources(a[A_QSRC]);
+  Kokkos::deep_copy(Kokkos::subview(d_sums, std::make_pair((int) NRED, (int) (NRED + NACCUM))), 0.0);
+}
+
+template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::compute_vector(int n)
+{
+  fetch();
+  return FixContactTriPenalty::compute_vector(n);
+}
+
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_restart(FILE *fp)
+{
+  fetch();
+  FixContactTriPenalty::write_restart(fp);
 }
 
 /* the tool particles take the tool's share of the friction heat of the contact particles
    around them, kernel weighted (the CPU fix scatters it from the contact particle's side) */
-template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
   k_qtw.template sync<DeviceType>();
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
@@ -456,10 +512,10 @@ template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::tool_
   const int tb = toolbit, hb = heat->groupbit, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
   const int kern = pair->kernel(), dim = domain->dimension;
   const double acc = update->setupflag ? 0.0 : update->dt;
-  double q = 0.0;
-  Kokkos::parallel_reduce(
+  auto qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
+  Kokkos::parallel_for("sphcut:contact:tool_heat_gather",
       sphcut::range<DeviceType>(0, kl->inum),
-      KOKKOS_LAMBDA(const int jj_, double &sum) {
+      KOKKOS_LAMBDA(const int jj_) {
         const int j = ilist(jj_);
         if (!(mask(j) & tb)) return;
         double p = 0.0;
@@ -477,11 +533,9 @@ template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::tool_
         if (cp <= 0.0) return;
         const double m = use_rmass ? rmass(j) : mass(type(j));
         st(j, FixSPHJCThermal::DTEMP) += p / (m * cp);
-        sum += p * acc;
-      },
-      q);
+        if (acc > 0.0) Kokkos::atomic_add(&qsrc(), p * acc);
+      });
   fixkk->k_state.template modify<DeviceType>();
-  return q;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -489,16 +543,22 @@ template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::tool_
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::end_of_step()
 {
   compute_tool_velocity();
-  if (toolbit) tool_velocity_device();
+  if (toolbit && (vtool[0] != vtool_dev[0] || vtool[1] != vtool_dev[1] || vtool[2] != vtool_dev[2]))
+    tool_velocity_device();
   if (write_every && update->ntimestep % write_every == 0) write_geometry();
-  // the per-atom contact force (f_ID) on the host on output steps and every peratom_freq steps
-  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_fout.sync_host();
+  // the per-atom contact force (f_ID) and the sums on the host on output steps and every
+  // peratom_freq steps (the energy budget of fix heat/fmfs includes the friction heat then)
+  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) {
+    k_fout.sync_host();
+    fetch();
+  }
 }
 
 // between runs the per-atom output is on the host for any consumer
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_run()
 {
   k_fout.sync_host();
+  fetch();
   peratom_freq = 1;
 }
 
@@ -510,7 +570,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_ve
   auto mask = atomKK->k_mask.view<DeviceType>();
   const int tb = toolbit;
   const double v0 = vtool[0], v1 = vtool[1], v2 = vtool[2];
-  Kokkos::parallel_for(
+  for (int d = 0; d < 3; d++) vtool_dev[d] = vtool[d];
+  Kokkos::parallel_for("sphcut:contact:tool_velocity_device",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (!(mask(i) & tb)) return;
         v(i, 0) = v0;

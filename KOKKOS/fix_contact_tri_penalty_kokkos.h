@@ -43,6 +43,10 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   void post_force(int) override;
   void end_of_step() override;
   void post_run() override;
+  double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  double dt_limit(double, double) const override { return 1.0e300; }    // on the device (k_dtlim)
+  int dt_limit_on_device() const override { return 1; }
   int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
@@ -61,8 +65,13 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   DAT::tdual_double_2d k_fout;                   // per-atom output (host view = fcontact)
   Kokkos::View<int *, mem> d_feature;            // tool feature of each element
   void upload();
+  Kokkos::View<double *, mem> d_sums;            // the contact kernel's sums and accumulators (.cpp)
+  typename Kokkos::View<double *, mem>::HostMirror h_sums;
+  int stale = 0;                                 // d_sums holds what the host copies lack
+  void fetch();
+  double vtool_dev[3] = {0.0, 0.0, 0.0};         // tool velocity the tool particles were last given
   void tool_velocity_device();
-  double tool_heat_gather();                     // returns the heat it added to the tool particles (energy)
+  void tool_heat_gather();                       // adds the tool's heat to its particles and to d_sums
 };
 
 }    // namespace LAMMPS_NS

@@ -116,7 +116,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(doubl
   auto h = d_h;
   const int gb = groupbit, ev = every;
   double dt = 1.0e300;
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:heat:dt_limit",
       sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &m) {
         if (!(mask(i) & gb)) return;
@@ -170,7 +170,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
   auto st = fixkk->k_state.template view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
   const int gb = groupbit;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:heat:add_held",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (mask(i) & gb) st(i, FixSPHJCThermal::DTEMP) += st(i, FixSPHJCThermal::HELD);
       });
@@ -201,9 +201,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   const int losses = hconv > 0.0 || emiss > 0.0;
   double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
 
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:heat:conduction_kk",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:heat:conduction_kk:2",
       sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = ilist(ii);
@@ -301,9 +301,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
 
   // 1. the scheme of each particle and its FMFS pair weights
   double nf = 0.0, nb = 0.0, nfb = 0.0;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:heat:conduction_conservative_kk",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:heat:conduction_conservative_kk:2",
       sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = ilist(ii);
@@ -361,9 +361,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
 
   // 2. the pairwise exchange with the mean weight, and the surface losses
   double pc = 0.0, pr = 0.0;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:heat:conduction_conservative_kk:3",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:heat:conduction_conservative_kk:4",
       sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
         const int i = ilist(ii);
@@ -462,7 +462,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet(bo
   auto db = d_dirbit;
   auto dtemp = d_dirtemp;
   const int gb = groupbit, nd = (int) dirichlet.size(), both = also_temp;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:heat:set_dirichlet",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
         if (k < 0) return;
@@ -488,7 +488,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::final_integrate(
   auto dtemp = d_dirtemp;
   const int gb = groupbit, nd = (int) dirichlet.size(), use_rmass = atom->rmass_flag;
   double q = 0.0;
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:heat:final_integrate",
       sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &sum) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
@@ -517,7 +517,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::compute_vector
   auto mat = d_mat;
   const int gb = groupbit, use_rmass = atom->rmass_flag;
   double loc = 0.0, res = 0.0;
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:heat:compute_vector",
       sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &sum) {
         if (!(mask(i) & gb)) return;

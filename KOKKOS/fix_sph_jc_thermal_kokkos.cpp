@@ -73,7 +73,8 @@ template <class DeviceType> struct SecondHalf {
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
-  int groupbit, toolbit, clampbit, use_rmass, want_dt, therm_bit, therm_every;
+  typename AT::t_double_1d_const dtlim;    // limit of an attached style (k_dtlim), when use_dtlim
+  int groupbit, toolbit, clampbit, use_rmass, want_dt, use_dtlim, therm_bit, therm_every;
   double dt, dtf, cfl, therm_F;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
@@ -89,6 +90,7 @@ template <class DeviceType> struct SecondHalf {
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
+    if (use_dtlim && i == 0 && dtlim(0) < r[1]) r[1] = dtlim(0);
     second_half(i, r);
     if (mask(i) & therm_bit) {    // after the corrector: the density the CPU heat fix sees at end_of_step
       const int t = type(i);
@@ -138,6 +140,19 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   for (int i = 0; i < atom->nlocal; i++) initialize_atom(i);
   k_state.modify_host();
   remap = comm->nprocs == 1 && atom->tag_enable;
+  k_dtlim = DAT::tdual_double_1d("sph/jc-thermal:dtlim", 1);
+  k_dtlim.h_view(0) = 1.0e300;
+  k_dtlim.modify_host();
+  k_dtlim.template sync<DeviceType>();
+}
+
+// whether an attached style writes its dt limit into k_dtlim (then the reductions read it)
+template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::device_dt_limits()
+{
+  int any = 0;
+  for (auto *st : timed) any |= st->dt_limit_on_device();
+  if (any) k_dtlim.template sync<DeviceType>();
+  return any;
 }
 
 template <class DeviceType> FixSPHJCThermalKokkos<DeviceType>::~FixSPHJCThermalKokkos()
@@ -231,12 +246,14 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
   auto type = atomKK->k_type.view<DeviceType>();
   auto mat = d_mat;
   auto h = d_h;
-  const int gb = groupbit, tb = toolbit, cb = clampbit;
+  auto dtlim = k_dtlim.template view<DeviceType>();
+  const int gb = groupbit, tb = toolbit, cb = clampbit, use_dtlim = device_dt_limits();
   const double c = cfl;
   double dtloc = 1.0e300;
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:sph:stable_dt",
       sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &m) {
+        if (use_dtlim && i == 0 && dtlim(0) < m) m = dtlim(0);
         if (!(mask(i) & gb)) return;
         const double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
         const int t = type(i);
@@ -266,7 +283,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::check_close_
     // a full list sees each pair twice; a half list sees local-ghost pairs on both ranks without newton
     const int full = kl->d_numneigh.extent(0) > 0 && lmp->kokkos->neighflag == FULL;
     const double wlocal = full ? 0.5 : 1.0, wghost = full ? 0.5 : (force->newton_pair ? 1.0 : 0.5);
-    Kokkos::parallel_reduce(
+    Kokkos::parallel_reduce("sphcut:sph:check_close_pairs",
         sphcut::range<DeviceType>(0, kl->inum),
         KOKKOS_LAMBDA(const int ii, double &c, double &r) {
           const int i = ilist(ii);
@@ -304,7 +321,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   auto mat = d_mat;
   const int gb = groupbit, tb = toolbit, cb = clampbit, use_rmass = atom->rmass_flag;
   const double dt = dtv, dtfh = dtf;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:sph:initial_integrate",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (!(mask(i) & gb)) return;
         const int t = type(i);
@@ -332,7 +349,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   if ((int) k_state.extent(0) < atom->nmax) grow_on_device(atom->nmax);
   k_state.template sync<DeviceType>();
   auto st = k_state.template view<DeviceType>();
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:sph:pre_force",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });
   k_state.template modify<DeviceType>();
   // the force state to the ghosts: on the device unless LAMMPS takes the classic path
@@ -375,6 +392,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.clampbit = clampbit;
   k.use_rmass = atom->rmass_flag;
   k.want_dt = cfl > 0.0;
+  k.use_dtlim = device_dt_limits();
+  k.dtlim = k_dtlim.template view<DeviceType>();
   k.dt = dtv;
   k.dtf = dtf;
   k.cfl = cfl;
@@ -382,7 +401,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.therm_every = therm_every;
   k.therm_F = thermal_cfl;
   double sums[3] = {0.0, 1.0e300, 1.0e300};
-  Kokkos::parallel_reduce(sphcut::range<DeviceType>(0, atom->nlocal), k, sums);
+  Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k, sums);
   plastic_work += sums[0];
   dt_next = sums[1];
   if (therm_bit) {
@@ -475,7 +494,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_ex
   k_rowtag.template sync<DeviceType>();
   auto tag = atomKK->k_tag.view<DeviceType>();
   auto rt = k_rowtag.template view<DeviceType>();
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:sph:setup_pre_exchange",
       sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) { rt(i) = tag(i); });
   k_rowtag.template modify<DeviceType>();
   nrows = nlocal;
@@ -509,7 +528,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state(
 
   // largest tag among the labelled rows and the atoms: size of the tag -> row table
   tagint maxtag = 0;
-  Kokkos::parallel_reduce(
+  Kokkos::parallel_reduce("sphcut:sph:remap_state",
       sphcut::range<DeviceType>(0, nold > nlocal ? nold : nlocal),
       KOKKOS_LAMBDA(const int i, tagint &m) {
         if (i < nold && rt(i) > m) m = rt(i);
@@ -525,11 +544,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state(
   const double t0 = temp0;
 
   Kokkos::deep_copy(row_of, -1);
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:sph:remap_state:2",
       sphcut::range<DeviceType>(0, nold), KOKKOS_LAMBDA(const int r) {
         if (rt(r) > 0) row_of(rt(r)) = r;
       });
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:sph:remap_state:3",
       sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         const int r = row_of(tag(i));
         if (r >= 0)
@@ -537,7 +556,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state(
         else
           sphcut::initial_row(&tmp(i, 0), t0);    // an atom created since the last remap
       });
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:sph:remap_state:4",
       sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         for (int k = 0; k < NCOL; k++) st(i, k) = tmp(i, k);
         rt(i) = tag(i);

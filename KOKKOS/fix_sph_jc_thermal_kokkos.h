@@ -35,6 +35,10 @@ class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
   int therm_bit = 0, therm_every = 1;
   double therm_dt = 1.0e300, therm_F = 0.0;
   bigint therm_step = -1;    // step of the last final_integrate that computed therm_dt
+  // element 0: a dt limit an attached /kk style writes on the device each step
+  // (AttachedStyle::dt_limit_on_device); the second-half reduction takes it into its minimum
+  DAT::tdual_double_1d k_dtlim;
+  double courant() const { return cfl; }
 };
 
 template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermalKokkosBase {
@@ -77,6 +81,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
                       : " (/kk, fence no: host time per style, the device runs behind; fence yes for device times)";
   }
   void check_close_pairs() override;
+  int device_dt_limits();
 
   // one rank: the state follows its atoms by tag on the device (no host exchange, see .cpp)
   void setup_pre_exchange() override;

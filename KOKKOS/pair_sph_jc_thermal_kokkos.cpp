@@ -196,7 +196,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     // clear the sums (ghosts too with newton: they come back by reverse communication)
     k_acc.template sync<DeviceType>();
     auto acc = k_acc.template view<DeviceType>();
-    Kokkos::parallel_for(
+    Kokkos::parallel_for("sphcut:pair:zero_sums",
         sphcut::range<DeviceType>(0, newton ? nall : nlocal), KOKKOS_LAMBDA(const int i) {
           for (int k = 0; k < sphcut::NACC; k++) acc(i, k) = 0.0;
         });
@@ -219,7 +219,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   if (vflag_fdotr) {
     // half lists only (fdotr is not valid for a full list)
     EV_FLOAT ev;
-    Kokkos::parallel_reduce(nall, PairVirialFDotRCompute<DeviceType>(atomKK->k_x.view<DeviceType>(),
+    Kokkos::parallel_reduce("sphcut:pair:virial", nall, PairVirialFDotRCompute<DeviceType>(atomKK->k_x.view<DeviceType>(),
                                                                       atomKK->k_f.view<DeviceType>(), 0), ev);
     for (int k = 0; k < 6; k++) virial[k] = ev.v[k];
     vflag_fdotr = 0;
@@ -243,7 +243,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
   const int use_rmass = atom->rmass_flag;
   using SL = StateLayout;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:pair:stress_pass",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         for (int a = 0; a < 3; a++) pk(i, PK_X + a) = x(i, a);
         if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) {
@@ -284,7 +284,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
   const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
   const int nlocal = atom->nlocal;
 
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:pair:neigh_pass",
       sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
         const int i = ilist(ii);
         const double mi = pk(i, PK_M);
@@ -326,7 +326,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(
   auto accv = k_acc.template view<DeviceType>();
   auto mt = d_mat;
   const int corr = correction, dim = domain->dimension;
-  Kokkos::parallel_for(
+  Kokkos::parallel_for("sphcut:pair:rates_pass",
       sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         if (pk(i, PK_M) == 0.0) return;    // not in the SPH solid (stress pass)
         store_rates(mt(type(i)), dim, corr, &accv(i, 0), st, i);

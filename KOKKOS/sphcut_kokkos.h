@@ -52,7 +52,7 @@ int pack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n,
   auto buf = k_buf.view<DeviceType>();
   auto v = k.template view<DeviceType>();
   Kokkos::parallel_for(
-      range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+      "sphcut:pack_columns", range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
         const int j = list(iswap, ii);
         for (int c = 0; c < ncol; c++) buf(ii * ncol + c) = v(j, col0 + c);
       });
@@ -67,7 +67,7 @@ void unpack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, int fi
   auto buf = k_buf.view<DeviceType>();
   auto v = k.template view<DeviceType>();
   Kokkos::parallel_for(
-      range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+      "sphcut:unpack_columns", range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
         for (int c = 0; c < ncol; c++) v(first + ii, col0 + c) = buf(ii * ncol + c);
       });
   k.template modify<DeviceType>();

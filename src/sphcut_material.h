@@ -103,7 +103,7 @@ SPHCUT_INLINE double radial_return(const Material &mat, double *s, double eps, d
   const double ft = jc_thermal_factor(mat, T);
   double y0 = jc_hardening(mat, eps) * ft;    // rate factor >= 1, so this is the lowest yield stress
   if (!mat.plastic || q <= y0) {
-    if (sigy) *sigy = jc_flow_stress(mat, eps, 0.0, T);
+    if (sigy) *sigy = y0;    // = jc_flow_stress(mat, eps, 0, T), the same products
     return 0.0;
   }
   const double G3 = 3.0 * mat.G;
@@ -112,13 +112,14 @@ SPHCUT_INLINE double radial_return(const Material &mat, double *s, double eps, d
   double y = y0;
   for (int it = 0; it < 50; it++) {
     const double e = eps + d;
-    const double hard = jc_hardening(mat, e);
+    const double en = e > 0.0 ? pow(e, mat.n) : 0.0;    // one pow for the hardening and its slope
+    const double hard = mat.A + mat.B * en;             // jc_hardening(mat, e)
     const double rate = jc_rate_factor(mat, d / dt);
     y = hard * rate * ft;
     const double f = q - G3 * d - y;
     if (f > 0.0) lo = d; else hi = d;
     if (fabs(f) <= 1.0e-12 * q) break;
-    double dh = e > 0.0 ? mat.B * mat.n * pow(e, mat.n - 1.0) : 0.0;
+    double dh = e > 0.0 ? mat.B * mat.n * en / e : 0.0;    // B n e^(n-1)
     if (!(dh < 1.0e30)) dh = 1.0e30;
     const double dr = (d / dt > mat.epsdot0 && d > 0.0) ? mat.C / d : 0.0;
     const double df = -G3 - ft * (dh * rate + hard * dr);

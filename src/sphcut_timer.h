@@ -35,6 +35,10 @@ class AttachedStyle {
   virtual std::string timing_name() const = 0;
   // stable dt of this style's physics for the Courant numbers of fix sph/jc-thermal
   virtual double dt_limit(double /*cfl*/, double /*thermal_cfl*/) const { return 1.0e300; }
+  // 1: the style writes its limit (already scaled by the Courant numbers) into the device view
+  // FixSPHJCThermalKokkosBase::k_dtlim each step instead (/kk, no host round trip), and
+  // dt_limit returns 1e300
+  virtual int dt_limit_on_device() const { return 0; }
   double cpu_time = 0.0;
 };
 

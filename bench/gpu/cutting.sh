@@ -17,6 +17,9 @@ set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 source "$ROOT/bench/gpu/common.sh"
 GPUK="$GPU -pk kokkos neigh full newton off"
+# the neighbour-list check every NEIGHEVERY steps (default 10: a particle moves about 1e-3 spacings per
+# step, the skin is 0.3 spacings; the logs report "Dangerous builds")
+NEV="-var neighevery ${NEIGHEVERY:-10}"
 EX2="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
 EX3="$ROOT/examples/cutting-3d-ti6al4v/in.cutting"
 W=/tmp/cut; mkdir -p $W
@@ -33,6 +36,7 @@ run 0
 EOI
   lmp "$@" -in $W/snap.in -log $W/log.$(basename $out .dump) > $W/screen.$(basename $out .dump) 2>&1 \
     || { tail -5 $W/screen.$(basename $out .dump); return 1; }
+  cp forces.dat forces.$(basename $out .dump)
 }
 
 check() {
@@ -43,6 +47,8 @@ check() {
     say "check 2D cut, CPU vs GPU after 1000 steps ($(grep -m1 -A0 'f_cut\[5\]' log.gpu2 >/dev/null; awk '/^ +1000 /{print "contact particles " $9}' log.gpu2)): $(python3 $ROOT/bench/gpu/compare.py cpu2.dump gpu2.dump 1e-8 | tr '\n' ' ')"
   snapshot "$EX3" cpu3.dump $v3 && snapshot "$EX3" gpu3.dump $GPUK $v3 && \
     say "check 3D cut (free sides), CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpu3.dump gpu3.dump 1e-8 | tr '\n' ' ')"
+  say "  forces.dat, last line, CPU: $(tail -1 forces.cpu2)"
+  say "                          GPU: $(tail -1 forces.gpu2)"
   grep -B1 -A2 "^ *Step" log.cpu2 log.gpu2 | tail -6 >> "$SUM"
   cd "$ROOT"
 }
@@ -51,7 +57,7 @@ check() {
 rate2d() {
   local ny=${NY:-41} steps=${STEPS:-20000}
   cd $W
-  timeout 580 "$BIN" $GPUK -in "$EX2" -var ny $ny -var xstart 1 -var steps $steps -var thermoevery 1000 \
+  timeout 580 "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var xstart 1 -var steps $steps -var thermoevery 1000 \
     -var printevery 100 -var dumpevery 0 -log log.rate$ny > screen.rate$ny 2>&1 || { tail -5 screen.rate$ny; }
   local loop; loop=$(grep "^Loop time" log.rate$ny | tail -1)
   say "rate2d ny $ny: $loop"
@@ -64,7 +70,7 @@ cut2d() {
   local ny=${NY:-41} cut=${CUT:-2e-3}
   mkdir -p $W/cut2d-$ny; cd $W/cut2d-$ny
   local t0; t0=$(date +%s)
-  timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
+  timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
     -var printevery 100 -var dumpevery 0 -log log.cutting > screen 2>&1 || tail -3 screen
   say "cut2d ny $ny cut $cut: $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.cutting | tail -1)"
   say "  $(tail -1 forces.dat)"
@@ -75,11 +81,11 @@ cut2d() {
 slab() {
   local ny=${NYS:-11} cut=${CUTS:-0.3e-3}
   mkdir -p $W/slab2d $W/slab3d
-  cd $W/slab2d && timeout 280 "$BIN" $GPUK -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
+  cd $W/slab2d && timeout 280 "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
     -var printevery 100 -var dumpevery 0 -log log.cutting > screen 2>&1
   say "slab: 2D ny $ny: $(grep '^Loop time' log.cutting | tail -1)"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
-  cd $W/slab3d && timeout 280 "$BIN" $GPUK -in "$EX3" -var ny $ny -var nz ${NZS:-4} -var cut $cut -var thermoevery 10000 \
+  cd $W/slab3d && timeout 280 "$BIN" $GPUK $NEV -in "$EX3" -var ny $ny -var nz ${NZS:-4} -var cut $cut -var thermoevery 10000 \
     -var printevery 100 -log log.cutting > screen 2>&1
   say "slab: 3D periodic ny $ny nz ${NZS:-4}: $(grep '^Loop time' log.cutting | tail -1)"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
@@ -90,7 +96,7 @@ slab() {
 bench3d() {
   cd $W
   for nz in ${BENCH_NZ:-58 232}; do
-    timeout 290 "$BIN" $GPUK -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 -var steps ${BENCH_STEPS:-200} \
+    timeout 290 "$BIN" $GPUK $NEV -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 -var steps ${BENCH_STEPS:-200} \
       -var thermoevery 100 -var printevery 100 -log log.b3d$nz > screen.b3d$nz 2>&1 || tail -3 screen.b3d$nz
     say "bench3d ny 41 nz $nz: $(grep '^Loop time' log.b3d$nz | tail -1)"
     say "  $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %.3e particle-steps/s", a, a*n/t}' log.b3d$nz)"
@@ -108,7 +114,7 @@ dump_sph snap all \${printevery} chip.dump id type x y z temperature plastic_str
 dump_modify snap sort id
 run 0
 EOI
-  timeout ${CHIP_TIMEOUT:-590} "$BIN" $GPUK -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
+  timeout ${CHIP_TIMEOUT:-590} "$BIN" $GPUK $NEV -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
     -var xstart ${XSTARTC:-3} -var walltime ${CHIP_WALL:-0} -var thermoevery 5000 -var printevery 100 \
     -log log.cutting > screen 2>&1 || tail -3 screen
   say "chip3d ny $ny nz $nz (free sides): $(grep '^Loop time' log.cutting | tail -2 | head -1)"
@@ -148,13 +154,13 @@ prof() {
     say "prof 2D ny $ny ($steps steps in contact)"
     prof_run p2d$ny "$EX2" -var ny $ny -var steps $steps
     prof_run p2d${ny}n10 "$EX2" -var ny $ny -var steps $steps -var neighevery 10
-    KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.2d$ny.txt prof_run p2d${ny}kp "$EX2" -var ny $ny -var steps $steps
+    KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.2d$ny.txt prof_run p2d${ny}kp "$EX2" -var ny $ny -var steps $steps -var neighevery 10
     head -32 $W/kp.2d$ny.txt | sed 's/^/    /' >> "$SUM"
   done
   local nz=${PROF_NZ:-58}
-  say "prof 3D ny 41 nz $nz (100 steps)"
-  prof_run p3d "$EX3" -var ny 41 -var nz $nz -var steps 100
-  KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.3d.txt prof_run p3dkp "$EX3" -var ny 41 -var nz $nz -var steps 100
+  say "prof 3D ny 41 nz $nz (${PROF_STEPS3:-300} steps)"
+  prof_run p3d "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
+  KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.3d.txt prof_run p3dkp "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
   head -24 $W/kp.3d.txt | sed 's/^/    /' >> "$SUM"
   cd "$ROOT"
 }
