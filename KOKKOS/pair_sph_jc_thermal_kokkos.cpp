@@ -86,6 +86,25 @@ struct LocalAdd {
   KOKKOS_INLINE_FUNCTION void operator()(int k, double val) const { acc[k] += val; }
 };
 
+// the sums of one particle as one value, for the reduction over the vector lanes that share its
+// neighbours (team path: Kokkos sums it with +=, starting from the default-constructed zero)
+struct PairSums {
+  double v[sphcut::NACC];
+  KOKKOS_INLINE_FUNCTION PairSums()
+  {
+    for (int k = 0; k < sphcut::NACC; k++) v[k] = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION PairSums &operator+=(const PairSums &o)
+  {
+    for (int k = 0; k < sphcut::NACC; k++) v[k] += o.v[k];
+    return *this;
+  }
+  KOKKOS_INLINE_FUNCTION void operator+=(const volatile PairSums &o) volatile
+  {
+    for (int k = 0; k < sphcut::NACC; k++) v[k] += o.v[k];
+  }
+};
+
 // sums of another particle: atomics into the per-atom table and the force
 template <class DeviceType> struct AtomicAdd {
   typename ArrayTypes<DeviceType>::t_double_2d acc;
@@ -188,7 +207,10 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   fixkk->k_state.template sync<DeviceType>();
   stress_pass(nall, any_as);
   const int inum = list->inum;
-  if (neighflag == FULL) {
+  if (neighflag == FULL && use_team(inum)) {
+    if (dim == 2) neigh_pass_team<2>(inum, any_as);
+    else neigh_pass_team<3>(inum, any_as);
+  } else if (neighflag == FULL) {
     if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
     else neigh_pass<3, 0, 0>(inum, any_as);
   } else {
@@ -314,6 +336,78 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
           for (int a = 0; a < 3; a++) f(i, a) += acc[sphcut::ACC_F + a];
           store_rates(mt(itype), DIM, corr, acc, st, i);
         }
+      });
+}
+
+/* ----------------------------------------------------------------------
+   whether the neighbour pass gives each particle a group of vector lanes
+   that share its neighbours (a team), as LAMMPS's own Kokkos pair styles
+   do: package kokkos neigh/thread on|off, by default on for a GPU run of
+   at most TEAM_AUTO_MAX particles.  Few particles leave most of a GPU idle
+   and the time of a step is that of one thread's chain over its
+   neighbours: lanes shorten the chain.  Many particles fill the GPU with
+   one thread per particle, and the lanes' reduction would only add work.
+------------------------------------------------------------------------- */
+
+template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::use_team(int inum) const
+{
+  if (lmp->kokkos->neigh_thread_set) return lmp->kokkos->neigh_thread;
+  const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
+  return !on_host && inum <= TEAM_AUTO_MAX;
+}
+
+/* the full-list pass with a team per TEAM_SIZE particles, TEAM_LANES
+   lanes per particle (one on a host backend: the same order of the sums
+   as neigh_pass); the lanes' sums are added by shuffles, one lane writes */
+template <class DeviceType>
+template <int DIM>
+void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
+{
+  auto f = atomKK->k_f.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto st = fixkk->k_state.template view<DeviceType>();
+  auto pk = d_pack;
+  auto mt = d_mat;
+  auto tpt = d_tpair;
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  auto neighbors = kl->d_neighbors;
+  auto numneigh = kl->d_numneigh;
+  auto ilist = kl->d_ilist;
+  const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
+  const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
+  const int lanes = on_host ? 1 : (DIM == 2 ? TEAM_LANES_2D : TEAM_LANES_3D);
+  const int per_team = on_host ? 1 : TEAM_THREADS / lanes;
+  typedef Kokkos::TeamPolicy<DeviceType> policy_t;
+
+  Kokkos::parallel_for(
+      "sphcut:pair:neigh_pass_team", policy_t((inum + per_team - 1) / per_team, per_team, lanes),
+      KOKKOS_LAMBDA(const typename policy_t::member_type &team) {
+        const int ii = team.league_rank() * team.team_size() + team.team_rank();
+        if (ii >= inum) return;    // all lanes of this particle alike
+        const int i = ilist(ii);
+        const double mi = pk(i, PK_M);
+        if (mi == 0.0) return;    // not in the SPH solid
+        const int itype = type(i);
+        sphcut::PairIn in_i;
+        double xi[3], vi[3];
+        gather_i(pk, i, any_as, xi, vi, in_i);
+        PairSums sums;
+        Kokkos::parallel_reduce(
+            Kokkos::ThreadVectorRange(team, numneigh(i)),
+            [&](const int jj, PairSums &s) {
+              const int j = neighbors(i, jj) & NEIGHMASK;
+              sphcut::PairIn in = in_i;
+              double mj;
+              if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) return;
+              sphcut::PairOut out;
+              sphcut::pair_terms<DIM>(kind, in, out);
+              sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{s.v});
+            },
+            sums);
+        Kokkos::single(Kokkos::PerThread(team), [&]() {
+          for (int a = 0; a < 3; a++) f(i, a) += sums.v[sphcut::ACC_F + a];
+          store_rates(mt(itype), DIM, corr, sums.v, st, i);
+        });
       });
 }
 

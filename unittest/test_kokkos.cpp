@@ -52,6 +52,16 @@ TEST(Kokkos, FullListNewtonOffMatchesCpu2D)
   expect_same(cpu, kk, "kk full");
 }
 
+// the neighbour pass with a team of vector lanes per particle (package kokkos neigh/thread on, the
+// default on a GPU for small systems): on a host backend one lane, the sums in the same order
+TEST(Kokkos, TeamNeighbourPassMatchesCpu)
+{
+  std::vector<std::string> team = KK_FULL;
+  for (const char *a : {"neigh/thread", "on"}) team.push_back(a);
+  expect_same(run({}, "on", 2, 100), run(team, "off", 2, 100), "kk team 2D");
+  expect_same(run({}, "on", 3, 100), run(team, "off", 3, 100), "kk team 3D");
+}
+
 TEST(Kokkos, HalfListNewtonOnMatchesCpu2D)
 {
   expect_same(run({}, "on", 2, 100), run(KK_HALF, "on", 2, 100), "kk half");

@@ -139,7 +139,7 @@ EOP
 # one run of the 2D (or 3D) cut in contact: label, example, extra lmp arguments; says us/step
 prof_run() {
   local label=$1 ex=$2; shift 2
-  timeout 280 "$BIN" $GPUK -in "$ex" -var xstart 0.6 -var thermoevery 1000 -var printevery 100 -var dumpevery 0 \
+  timeout 280 "$BIN" ${PROF_GPUK:-$GPUK} -in "$ex" -var xstart 0.6 -var thermoevery 1000 -var printevery 100 -var dumpevery 0 \
     "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
   say "  $label: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f us/step, %.3e particle-steps/s", a, n, 1e6*t/n, a*n/t}' log.$label)"
 }
@@ -154,12 +154,14 @@ prof() {
     say "prof 2D ny $ny ($steps steps in contact)"
     prof_run p2d$ny "$EX2" -var ny $ny -var steps $steps
     prof_run p2d${ny}n10 "$EX2" -var ny $ny -var steps $steps -var neighevery 10
+    PROF_GPUK="$GPUK neigh/thread off" prof_run p2d${ny}n10nt "$EX2" -var ny $ny -var steps $steps -var neighevery 10
     KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.2d$ny.txt prof_run p2d${ny}kp "$EX2" -var ny $ny -var steps $steps -var neighevery 10
     head -32 $W/kp.2d$ny.txt | sed 's/^/    /' >> "$SUM"
   done
   local nz=${PROF_NZ:-58}
   say "prof 3D ny 41 nz $nz (${PROF_STEPS3:-300} steps)"
   prof_run p3d "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
+  PROF_GPUK="$GPUK neigh/thread on" prof_run p3dteam "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
   KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.3d.txt prof_run p3dkp "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
   head -24 $W/kp.3d.txt | sed 's/^/    /' >> "$SUM"
   cd "$ROOT"
