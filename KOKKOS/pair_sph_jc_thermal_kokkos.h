@@ -49,7 +49,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   template <int DIM> void neigh_pass_team(int inum, int any_as);
   // the team path (neigh_pass_team): particles for which it is the default on a GPU, lanes per
   // particle, threads per team
-  enum { TEAM_AUTO_MAX = 65536, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
+  enum { TEAM_AUTO_MAX = 8192, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
   int use_team(int inum) const;
   void rates_pass(int nlocal);
 
