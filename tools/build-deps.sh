@@ -6,8 +6,11 @@
 #     as a shared library with PLUGIN, KOKKOS (external), OPENMP, MACHDYN, SPH and MPI.
 #
 # Usage: tools/build-deps.sh [--cuda] [--jobs N] [--no-apt] [--sources DIR] [--print-prefix]
-#                            [--pack-sources FILE]
+#                            [--pack-sources FILE] [--kokkos-only]
 #   --cuda            Kokkos with CUDA (Ampere80 PTX, JIT-compiled on Hopper) instead of OpenMP
+#   --kokkos-only     Kokkos alone, in a prefix of its own (tools/cuda-compile-check.sh: with
+#                     --cuda, the headers to compile the /kk sources with nvcc on a machine
+#                     without a GPU)
 #   --jobs N          parallel build jobs (default: nproc)
 #   --no-apt          do not install Debian packages or download sources (use --sources)
 #   --sources DIR     take the pristine sources from DIR (made by --pack-sources); needed on
@@ -33,6 +36,7 @@ USE_APT=1
 SOURCES=""
 PACK=""
 PRINT_PREFIX=0
+KOKKOS_ONLY=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --cuda) CUDA=1 ;;
@@ -41,7 +45,8 @@ while [ $# -gt 0 ]; do
     --sources) SOURCES="$(cd "$2" && pwd)"; shift ;;
     --pack-sources) PACK="$2"; shift ;;
     --print-prefix) PRINT_PREFIX=1 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    --kokkos-only) KOKKOS_ONLY=1 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "build-deps.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -50,6 +55,7 @@ done
 CACHE="${SPHCUT_CACHE:-$HOME/.cache/sphcut}"
 if [ $CUDA = 1 ]; then BACKEND=cuda-ampere80; else BACKEND=openmp; fi
 KEY="lammps-${LAMMPS_DEB_VERSION}_kokkos-${KOKKOS_VERSION}-${BACKEND}_mpi_r${RECIPE}"
+[ $KOKKOS_ONLY = 1 ] && KEY="kokkos-${KOKKOS_VERSION}-${BACKEND}_r${RECIPE}"
 KEY="${KEY//+/_}"
 PREFIX="$CACHE/$KEY"
 if [ $PRINT_PREFIX = 1 ]; then echo "$PREFIX"; exit 0; fi
@@ -242,6 +248,11 @@ if [ $CUDA = 1 ]; then
   grep -q "sphcut fix 4" "$cfg" || { echo "fix 4: no include( in $cfg" >&2; exit 1; }
 fi
 TK1=$(date +%s)
+if [ $KOKKOS_ONLY = 1 ]; then
+  touch "$PREFIX/.complete"
+  log "done: Kokkos in $PREFIX ($((TK1 - TK0)) s)"
+  exit 0
+fi
 
 # ---------------------------------------------------------------- LAMMPS
 log "building LAMMPS (shared, MPI, OpenMP, PLUGIN KOKKOS OPENMP ${CMP_PKGS[*]})"
