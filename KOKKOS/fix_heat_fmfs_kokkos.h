@@ -46,12 +46,14 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  bool begin_evaluation() override;
 
  public:    // (CUDA: a function that launches a device lambda must be public)
   FixSPHJCThermalKokkosBase *fixkk;
   ComputeSurfaceLambdaKokkosBase *surfkk;
   Kokkos::View<sphcut::Material *, typename DeviceType::memory_space> d_mat;
   Kokkos::View<double *, typename DeviceType::memory_space> d_hij, d_h;
+  Kokkos::View<sphcut::ThermalPair *, typename DeviceType::memory_space> d_tp;
   Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;
   Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;
   DAT::tdual_double_2d k_fwts;    // scheme flag and FMFS weights, local + ghost
