@@ -405,9 +405,12 @@ void FixHeatFMFS::gather_rows()
 // the neighbours of local particle i within the support (of the group) into the nb_ buffers:
 // index, type, x_i - x_j, r^2, then their kernel factors wfac and 1/r^2.  All the pairs'
 // scalars first and the sums after (in the callers), so that the processor overlaps the pairs'
-// sqrt and division instead of waiting for each before the sums.  Returns the count.
-int FixHeatFMFS::gather_support(int i)
+// sqrt and division instead of waiting for each before the sums.  With half, of two local
+// particles only the one with the larger index is kept (i is in its list too: a symmetric pair
+// term is computed once).  Returns the count.
+int FixHeatFMFS::gather_support(int i, bool half)
 {
+  const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   const int *type = atom->type;
   const int kernel = pair->kernel(), nt = atom->ntypes + 1;
@@ -427,7 +430,7 @@ int FixHeatFMFS::gather_support(int i)
   int n = 0;
   for (int jj = 0; jj < jnum; jj++) {
     const int j = jlist[jj] & NEIGHMASK;
-    if (!(mask[j] & groupbit)) continue;
+    if (!(mask[j] & groupbit) || (half && j < nlocal && j < i)) continue;
     const int jt = type[j];
     double r2;
     if (!sphcut::thermal_in_support(tpi[jt], xi, pk + 5 * j, &nb_dx[3 * n], r2)) continue;
@@ -482,7 +485,7 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
       if (conducts) n_brookshaw++;
       continue;
     }
-    const int n = gather_support(i);
+    const int n = gather_support(i, false);
     const sphcut::ThermalPair *tpi = tpair.data() + type[i] * nt;
     for (int k = 0; k < n && cand; k++)
       if (!tpi[nb_t[k]].same_kappa) cand = 0;    // material interface: Brookshaw
@@ -527,9 +530,42 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   }
   sphcut::forward_comm(comm, this);
 
-  // 2. the pairwise exchange with the mean of the two sides' weights, and the surface losses
+  // 2. the pairwise exchange with the mean of the two sides' weights: the conductance c_ij is
+  // symmetric, so a pair of two local particles is computed once and moves heat both ways
+  const int nlocal = atom->nlocal;
+  if (rate_sum.size() < (size_t) nlocal) rate_sum.resize(atom->nmax);
+  double *rate = rate_sum.data();    // rho cp dT/dt
+  for (int i = 0; i < nlocal; i++) rate[i] = 0.0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int itype = type[i];
+    const double ki = mat[itype].kappa;
+    const double *xi = pk + 5 * i;
+    const double Ti = xi[4], Vi = xi[3];
+    const int fi = fwts[i][0] > 0.0;
+    const double *wi = &fwts[i][1];
+    const sphcut::ThermalPair *tpi = tpair.data() + itype * nt;
+    const int n = gather_support(i, true);
+    double ri = 0.0;
+    for (int k = 0; k < n; k++) {
+      const int j = nb_j[k];
+      const double *dx = &nb_dx[3 * k];
+      const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
+      const double *wj = fwts[j];
+      const double brook = tpi[nb_t[k]].brook;
+      const double ai = fi ? ki * sphcut::fmfs_pair_weight_radial<DIM>(wi, dx, nb_ir2[k]) : brook;
+      const double aj = wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
+      const double c = nb_wfac[k] * sphcut::conductance_mean(ai, aj), dT = pk[5 * j + 4] - Ti;
+      ri += pk[5 * j + 3] * c * dT;
+      if (j < nlocal) rate[j] -= Vi * c * dT;
+    }
+    rate[i] += ri;
+  }
+
+  // the temperature rates and the surface losses
   double p_conv = 0.0, p_rad = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) st[i][F::HELD] = 0.0;
+  for (int i = 0; i < nlocal; i++) st[i][F::HELD] = 0.0;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
@@ -539,22 +575,7 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
     const double Ti = pk[5 * i + 4];
     const double rhoi = st[i][F::RHO_F];
     const double massi = rmass ? rmass[i] : mass[itype];
-    const int fi = fwts[i][0] > 0.0;
-    const double *wi = &fwts[i][1];
-    const sphcut::ThermalPair *tpi = tpair.data() + itype * nt;
-    const int n = gather_support(i);
-    double rate = 0.0;    // rho cp dT/dt
-    for (int k = 0; k < n; k++) {
-      const int j = nb_j[k];
-      const double *dx = &nb_dx[3 * k];
-      const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
-      const double *wj = fwts[j];
-      const double brook = tpi[nb_t[k]].brook;
-      const double ai = fi ? mi.kappa * sphcut::fmfs_pair_weight_radial<DIM>(wi, dx, nb_ir2[k]) : brook;
-      const double aj = wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
-      rate += pk[5 * j + 3] * nb_wfac[k] * sphcut::conductance_mean(ai, aj) * (pk[5 * j + 4] - Ti);
-    }
-    double dT = rate / (rhoi * mi.cp);
+    double dT = rate[i] / (rhoi * mi.cp);
     const int surf = surface ? surface->is_surface(i) : 0;
     if (surf && (hconv > 0.0 || emiss > 0.0)) {
       double qc, qr;

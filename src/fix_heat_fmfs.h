@@ -94,7 +94,8 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   std::vector<int> nb_j, nb_t;
   std::vector<double> nb_dx, nb_r2, nb_wfac, nb_ir2;
   void gather_rows();
-  int gather_support(int i);
+  int gather_support(int i, bool half);
+  std::vector<double> rate_sum;              // pass 2: rho cp dT/dt of the local particles
   virtual bool begin_evaluation();
 };
 
