@@ -405,12 +405,11 @@ void FixHeatFMFS::gather_rows()
 // the neighbours of local particle i within the support (of the group) into the nb_ buffers:
 // index, type, x_i - x_j, r^2, then their kernel factors wfac and 1/r^2.  All the pairs'
 // scalars first and the sums after (in the callers), so that the processor overlaps the pairs'
-// sqrt and division instead of waiting for each before the sums.  With half, of two local
-// particles only the one with the larger index is kept (i is in its list too: a symmetric pair
-// term is computed once).  Returns the count.
+// sqrt and division instead of waiting for each before the sums.  With half, a local j with a
+// smaller index and a list of its own (listed) is left out: i is in j's (full) list, so the
+// symmetric pair term is computed once, by j.  Returns the count.
 int FixHeatFMFS::gather_support(int i, bool half)
 {
-  const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   const int *type = atom->type;
   const int kernel = pair->kernel(), nt = atom->ntypes + 1;
@@ -430,7 +429,7 @@ int FixHeatFMFS::gather_support(int i, bool half)
   int n = 0;
   for (int jj = 0; jj < jnum; jj++) {
     const int j = jlist[jj] & NEIGHMASK;
-    if (!(mask[j] & groupbit) || (half && j < nlocal && j < i)) continue;
+    if (!(mask[j] & groupbit) || (half && j < i && listed[j])) continue;
     const int jt = type[j];
     double r2;
     if (!sphcut::thermal_in_support(tpi[jt], xi, pk + 5 * j, &nb_dx[3 * n], r2)) continue;
@@ -536,6 +535,11 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   if (rate_sum.size() < (size_t) nlocal) rate_sum.resize(atom->nmax);
   double *rate = rate_sum.data();    // rho cp dT/dt
   for (int i = 0; i < nlocal; i++) rate[i] = 0.0;
+  // (neigh_modify include may leave particles without a list of their own: their pairs are
+  // computed from the other side in full)
+  listed.assign(nlocal, 0);
+  for (int ii = 0; ii < list->inum; ii++)
+    if (mask[list->ilist[ii]] & groupbit) listed[list->ilist[ii]] = 1;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
@@ -555,7 +559,8 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
       const double *wj = fwts[j];
       const double brook = tpi[nb_t[k]].brook;
       const double ai = fi ? ki * sphcut::fmfs_pair_weight_radial<DIM>(wi, dx, nb_ir2[k]) : brook;
-      const double aj = wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
+      const double aj =
+          wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
       const double c = nb_wfac[k] * sphcut::conductance_mean(ai, aj), dT = pk[5 * j + 4] - Ti;
       ri += pk[5 * j + 3] * c * dT;
       if (j < nlocal) rate[j] -= Vi * c * dT;

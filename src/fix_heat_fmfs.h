@@ -96,6 +96,7 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   void gather_rows();
   int gather_support(int i, bool half);
   std::vector<double> rate_sum;              // pass 2: rho cp dT/dt of the local particles
+  std::vector<char> listed;                  // pass 2: local particle has a neighbour list of its own
   virtual bool begin_evaluation();
 };
 
