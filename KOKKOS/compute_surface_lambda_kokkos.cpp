@@ -50,11 +50,7 @@ template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::init()
   sphcut::kokkos_full_list<DeviceType>(neighbor);
   if (!dynamic_cast<FixSPHJCThermalKokkosBase *>(fix))
     error->all(FLERR, "Compute surface/lambda/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
-  const int n = atom->ntypes + 1;
-  std::vector<double> h((size_t) n * n, 0.0);
-  for (int i = 1; i < n; i++)
-    for (int j = 1; j < n; j++) h[(size_t) i * n + j] = pair->smoothing_length(i, j);
-  d_h = sphcut::to_device<double, DeviceType>(h.data(), n * n, "surface/lambda:h");
+  d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "surface/lambda:tp");
 }
 
 // LAMMPS consumers (dumps, variables, fix ave/atom) read the host array
@@ -67,6 +63,14 @@ template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::compute
 template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::compute_device()
 {
   sphcut::FencedTimer timer(cpu_time);
+  if (!begin_step()) return;
+  if (domain->dimension == 2) kernel<2>();
+  else kernel<3>();
+}
+
+// ComputeSurfaceLambda::begin_step with the output a DualView
+template <class DeviceType> bool ComputeSurfaceLambdaKokkos<DeviceType>::begin_step()
+{
   invoked_peratom = update->ntimestep;
   if (atom->nmax > nmax) {
     nmax = atom->nmax;
@@ -76,9 +80,7 @@ template <class DeviceType> void ComputeSurfaceLambdaKokkos<DeviceType>::compute
     array_atom = out;
     last_step = -1;
   }
-  if (!recompute_due()) return;
-  if (domain->dimension == 2) kernel<2>();
-  else kernel<3>();
+  return recompute_due();
 }
 
 template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<DeviceType>::kernel()
@@ -98,7 +100,7 @@ template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<D
   auto mass = atomKK->k_mass.view<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
   auto o = k_out.template view<DeviceType>();
-  auto hij = d_h;
+  auto tp = d_tp;
   const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, hides = tool_hides;
   const int tb = fix->toolbit, cb = fix->clampbit, use_rmass = atom->rmass_flag;
   const double thr = threshold;
@@ -112,29 +114,23 @@ template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<D
         if (!(mask(i) & gb)) return;
         const int itool = sphcut::role_from_mask(mask(i), tb, cb) == F::TOOL;
         const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-        double B[DIM][DIM] = {}, gs[3] = {0.0, 0.0, 0.0};
+        const int itn = type(i) * nt;
+        sphcut::SupportMoments<DIM> m;
+        sphcut::support_zero<DIM>(m, false);
         for (int jj = 0; jj < numneigh(i); jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
           if (!(mask(j) & gb)) continue;
           if (!hides && (sphcut::role_from_mask(mask(j), tb, cb) == F::TOOL) != itool) continue;
-          const double h = hij(type(i) * nt + type(j));
           const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
-          double r[3], r2;    // x_j - x_i
-          if (!sphcut::in_support(xj, xi, h, r, r2)) continue;
-          double w, wfac;
-          sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
+          double r[3], r2, wfac, ir2;    // r = x_j - x_i
+          if (!sphcut::thermal_support(tp(itn + type(j)), kern, xj, xi, r, r2, wfac, ir2)) continue;
           const double vj = (use_rmass ? rmass(j) : mass(type(j))) / st(j, F::RHO_F);
-          for (int a = 0; a < DIM; a++) {
-            const double g = -wfac * r[a] * vj;
-            gs[a] += g;
-            for (int b = 0; b < DIM; b++) B[b][a] += r[b] * g;
-          }
+          sphcut::support_add_surface<DIM>(m, r, -wfac * vj);
         }
-        const double lam = sphcut::surface_lambda<DIM>(B);
+        double n[3];
+        const double lam = sphcut::support_surface<DIM>(m, thr, n);
         o(i, LAMBDA) = lam;
         o(i, FLAG) = lam < thr ? 1.0 : 0.0;
-        double n[3] = {0.0, 0.0, 0.0};
-        if (lam < thr) sphcut::surface_normal<DIM>(B, gs, n);
         for (int a = 0; a < DIM; a++) o(i, NX + a) = n[a];
       });
   k_out.template modify<DeviceType>();

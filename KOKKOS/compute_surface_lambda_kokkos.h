@@ -41,9 +41,10 @@ template <class DeviceType> class ComputeSurfaceLambdaKokkos : public ComputeSur
   void init() override;
   void compute_peratom() override;
   void compute_device() override;
+  bool begin_step() override;
 
  public:    // (CUDA: a function that launches a device lambda must be public)
-  Kokkos::View<double *, typename DeviceType::memory_space> d_h;    // h per type pair
+  Kokkos::View<sphcut::ThermalPair *, typename DeviceType::memory_space> d_tp;    // per type pair
   template <int DIM> void kernel();
 };
 

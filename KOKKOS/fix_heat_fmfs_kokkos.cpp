@@ -43,6 +43,35 @@ namespace {
 constexpr int NW = 1 + 3 * 3 + 3;    // scheme flag, Gf (3x3), z (3)
 }    // namespace
 
+namespace {
+// the Dirichlet groups back to their temperature after the corrector, and the heat that took
+// (FixHeatFMFS::final_integrate); final adds this step's sum to the accumulator on the device
+template <class DeviceType> struct DirichletEnergy {
+  typedef DeviceType device_type;
+  typedef double value_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typedef typename DeviceType::memory_space mem;
+  typename AT::t_double_2d st;
+  typename AT::t_int_1d_const mask, type;
+  typename AT::t_float_1d_const rmass, mass;
+  Kokkos::View<const sphcut::Material *, mem> mat;
+  Kokkos::View<const int *, mem> db;
+  Kokkos::View<const double *, mem> dtemp;
+  Kokkos::View<double *, mem> acc;
+  int gb, nd, use_rmass;
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, double &sum) const
+  {
+    const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
+    if (k < 0) return;
+    const int t = type(i);
+    const double m = use_rmass ? rmass(i) : mass(t);
+    sum += m * mat(t).cp * (dtemp(k) - st(i, FixSPHJCThermal::TEMP));
+    st(i, FixSPHJCThermal::TEMP) = dtemp(k);
+  }
+  KOKKOS_INLINE_FUNCTION void final(double &sum) const { acc(0) += sum; }
+};
+}    // namespace
+
 template <class DeviceType>
 FixHeatFMFSKokkos<DeviceType>::FixHeatFMFSKokkos(LAMMPS *lmp, int narg, char **arg) :
     FixHeatFMFS(sphcut::require_kokkos(lmp, "Fix heat/fmfs/kk"), narg, arg), fixkk(nullptr), surfkk(nullptr)
@@ -90,6 +119,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   }
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
+  d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "heat/fmfs:tp");
   const int nd = (int) dirichlet.size();
   std::vector<int> db(nd + 1, 0);
   std::vector<double> dtemp(nd + 1, 0.0);
@@ -143,7 +173,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
 {
   const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
-  if (eval && surfkk) surfkk->compute_device();
+  if (eval) begin_evaluation();
   sphcut::FencedTimer timer(cpu_time);
   atomKK->sync(execution_space, datamask_read);
   fixkk->k_state.template sync<DeviceType>();
@@ -163,6 +193,16 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
   }
   p_conv_prev = held_conv;
   p_rad_prev = held_rad;
+}
+
+// FixHeatFMFS::begin_evaluation with the compute's values on the device
+template <class DeviceType> bool FixHeatFMFSKokkos<DeviceType>::begin_evaluation()
+{
+  fuse_surface = false;
+  if (!surfkk || surfkk->invoked_peratom == update->ntimestep) return false;
+  if (conservative && surfkk->fusable(groupbit)) fuse_surface = surfkk->begin_step();
+  else surfkk->compute_device();
+  return fuse_surface;
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
@@ -201,9 +241,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   const int losses = hconv > 0.0 || emiss > 0.0;
   double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
 
-  Kokkos::parallel_for("sphcut:heat:conduction_kk",
+  Kokkos::parallel_for("sphcut:heat:zero_held_pp",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
-  Kokkos::parallel_reduce("sphcut:heat:conduction_kk:2",
+  Kokkos::parallel_reduce("sphcut:heat:per_particle",
       sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = ilist(ii);
@@ -272,10 +312,13 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   n_fallback += (bigint) nfb;
 }
 
-/* the conservative form (FixHeatFMFS::fmfs_choice and conduction_conservative) */
+/* the conservative form (FixHeatFMFS::conduction_conservative): one thread per particle walks
+   its neighbours once for the surface indicator (fused: into the compute's values) and the FMFS
+   moments, the same sums in the same order as the CPU fix */
 template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_conservative_kk()
 {
   using F = FixSPHJCThermal;
+  using CS = ComputeSurfaceLambda;
   if ((int) k_fwts.extent(0) < atom->nmax) k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NW);
   k_fwts.template sync<DeviceType>();
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
@@ -290,62 +333,84 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   auto st = fixkk->k_state.template view<DeviceType>();
   auto fw = k_fwts.template view<DeviceType>();
   typename AT::t_double_2d surf;
-  if (surfkk) surf = surfkk->k_out.template view<DeviceType>();
+  if (surfkk) {
+    surfkk->k_out.template sync<DeviceType>();
+    surf = surfkk->k_out.template view<DeviceType>();
+  }
   auto mat = d_mat;
-  auto hij = d_hij;
+  auto tp = d_tp;
   const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
-  const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
+  const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
   const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
+  const double thr = surfkk ? surfkk->threshold : 0.0;
   const int losses = hconv > 0.0 || emiss > 0.0;
   const int nall = atom->nlocal + atom->nghost;
 
-  // 1. the scheme of each particle and its FMFS pair weights
+  // 1. the surface indicator, the scheme of each particle and its FMFS pair weights
   double nf = 0.0, nb = 0.0, nfb = 0.0;
-  Kokkos::parallel_for("sphcut:heat:conduction_conservative_kk",
+  Kokkos::parallel_for("sphcut:heat:zero_weights",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
-  Kokkos::parallel_reduce("sphcut:heat:conduction_conservative_kk:2",
+  if (fuse)
+    Kokkos::parallel_for(
+        "sphcut:heat:zero_surface", sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+          for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
+        });
+  Kokkos::parallel_reduce("sphcut:heat:weights",
       sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = ilist(ii);
         if (!(mask(i) & gb)) return;
         const int itype = type(i);
         const sphcut::Material &mi = mat(itype);
-        if (mi.cp <= 0.0) return;
-        const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
-        int ok = fmfs && !is_surf && mi.kappa > 0.0;
-        sphcut::FmfsAccum<DIM> acc;
-        if (ok) {
-          sphcut::fmfs_zero<DIM>(acc);
-          const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-          for (int jj = 0; jj < numneigh(i) && ok; jj++) {
-            const int j = neighbors(i, jj) & NEIGHMASK;
-            if (!(mask(j) & gb)) continue;
-            const int jtype = type(j);
-            const double h = hij(itype * nt + jtype);
-            const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
-            double dx[3], r2;
-            if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
-            if (mat(jtype).kappa != mi.kappa) {
-              ok = 0;    // material interface: Brookshaw
-              continue;
-            }
-            double w, wfac;
-            sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
-            const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
-            const double r[3] = {-dx[0], -dx[1], -dx[2]};
-            const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
-            sphcut::fmfs_add<DIM>(acc, r, g, vj, 0.0);
+        const int conducts = mi.cp > 0.0;
+        const int was_surf = !fuse && has_surf && surf(i, CS::FLAG) > 0.5;
+        int cand = conducts && fmfs && mi.kappa > 0.0 && !was_surf;
+        if (!fuse && !cand) {
+          if (conducts) c_brook += 1.0;
+          return;
+        }
+        const int itn = itype * nt;
+        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        sphcut::SupportMoments<DIM> m;
+        sphcut::support_zero<DIM>(m, cand);
+        for (int jj = 0; jj < numneigh(i); jj++) {
+          const int j = neighbors(i, jj) & NEIGHMASK;
+          if (!(mask(j) & gb)) continue;
+          const sphcut::ThermalPair &tij = tp(itn + type(j));
+          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+          double dx[3], r2, wfac, ir2;
+          if (!sphcut::thermal_support(tij, kern, xi, xj, dx, r2, wfac, ir2)) continue;
+          const double r[3] = {-dx[0], -dx[1], -dx[2]};    // x_j - x_i
+          const double s = -wfac * ((use_rmass ? rmass(j) : mass(type(j))) / st(j, F::RHO_F));
+          sphcut::support_add_surface<DIM>(m, r, s);
+          if (cand) {
+            if (tij.same_kappa) sphcut::support_add_fmfs<DIM>(m, r, s, ir2);
+            else cand = 0;    // material interface: Brookshaw
           }
-          if (ok && sphcut::surface_lambda<DIM>(acc.B) < flam) ok = 0;
-          if (ok) {
-            double wts[NW - 1];
-            if (sphcut::fmfs_weights<DIM>(acc, wts)) {
-              for (int k = 0; k < NW - 1; k++) fw(i, 1 + k) = wts[k];
-            } else {
-              ok = 0;
-              c_fall += 1.0;
-            }
-          }
+        }
+        double lam = 0.0;
+        if (fuse) {
+          double n[3];
+          lam = sphcut::support_surface<DIM>(m, thr, n);
+          surf(i, CS::LAMBDA) = lam;
+          surf(i, CS::FLAG) = lam < thr ? 1.0 : 0.0;
+          for (int a = 0; a < DIM; a++) surf(i, CS::NX + a) = n[a];
+          if (lam < thr) cand = 0;
+        } else if (cand) {
+          double B[DIM][DIM];
+          sphcut::support_matrix<DIM>(m, B);
+          lam = sphcut::surface_lambda<DIM>(B);
+        }
+        if (!conducts) return;
+        int ok = 0;
+        if (cand && lam >= flam) {
+          sphcut::FmfsAccum<DIM> acc;
+          sphcut::support_to_fmfs<DIM>(m, acc);
+          double wts[NW - 1];
+          if (sphcut::fmfs_weights<DIM>(acc, wts)) {
+            for (int k = 0; k < NW - 1; k++) fw(i, 1 + k) = wts[k];
+            ok = 1;
+          } else c_fall += 1.0;
         }
         fw(i, 0) = ok ? 1.0 : 0.0;
         if (ok) c_fmfs += 1.0;
@@ -353,6 +418,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
       },
       nf, nb, nfb);
   k_fwts.template modify<DeviceType>();
+  if (fuse) surfkk->k_out.template modify<DeviceType>();
   n_fmfs += (bigint) nf;
   n_brookshaw += (bigint) nb;
   n_fallback += (bigint) nfb;
@@ -361,9 +427,9 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
 
   // 2. the pairwise exchange with the mean weight, and the surface losses
   double pc = 0.0, pr = 0.0;
-  Kokkos::parallel_for("sphcut:heat:conduction_conservative_kk:3",
+  Kokkos::parallel_for("sphcut:heat:zero_held",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
-  Kokkos::parallel_reduce("sphcut:heat:conduction_conservative_kk:4",
+  Kokkos::parallel_reduce("sphcut:heat:exchange",
       sphcut::range<DeviceType>(0, kl->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
         const int i = ilist(ii);
@@ -374,30 +440,26 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
         const double Ti = st(i, F::TEMP_F), rhoi = st(i, F::RHO_F);
         const double massi = use_rmass ? rmass(i) : mass(itype);
         const int fi = fw(i, 0) > 0.0;
+        const int itn = itype * nt;
         const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
         double rate = 0.0;
         for (int jj = 0; jj < numneigh(i); jj++) {
           const int j = neighbors(i, jj) & NEIGHMASK;
           if (!(mask(j) & gb)) continue;
           const int jtype = type(j);
-          const double h = hij(itype * nt + jtype);
+          const sphcut::ThermalPair &tij = tp(itn + jtype);
           const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
-          double dx[3], r2;
-          if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
-          double w, wfac;
-          sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
-          const double kj = mat(jtype).kappa;
-          const double sb = -2.0 * sphcut::harmonic_mean(mi.kappa, kj) * wfac;
-          const double r[3] = {-dx[0], -dx[1], -dx[2]};
-          const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
-          const double mr[3] = {dx[0], dx[1], dx[2]}, mg[3] = {-g[0], -g[1], -g[2]};
-          const double sij = fi ? mi.kappa * sphcut::fmfs_pair_weight<DIM>(&fw(i, 1), r, g) : sb;
-          const double sji = fw(j, 0) > 0.0 ? kj * sphcut::fmfs_pair_weight<DIM>(&fw(j, 1), mr, mg) : sb;
+          double dx[3], r2, wfac, ir2;
+          if (!sphcut::thermal_support(tij, kern, xi, xj, dx, r2, wfac, ir2)) continue;
+          const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
+          const double ai = fi ? mi.kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(i, 1), dx, ir2) : tij.brook;
+          const double aj =
+              fw(j, 0) > 0.0 ? mat(jtype).kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(j, 1), mdx, ir2) : tij.brook;
           const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
-          rate += vj * sphcut::conductance_mean(sij, sji) * (st(j, F::TEMP_F) - Ti);
+          rate += vj * wfac * sphcut::conductance_mean(ai, aj) * (st(j, F::TEMP_F) - Ti);
         }
         double dT = rate / (rhoi * mi.cp);
-        const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
+        const int is_surf = has_surf ? surf(i, CS::FLAG) > 0.5 : 0;
         if (is_surf && losses) {
           double qc, qr;
           sphcut::surface_losses(DIM, massi / rhoi, Ti, hc, tc, es, tr, qc, qr);
@@ -478,34 +540,52 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::final_integrate(
   sphcut::FencedTimer timer(cpu_time);
   atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
   fixkk->k_state.template sync<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto mat = d_mat;
-  auto db = d_dirbit;
-  auto dtemp = d_dirtemp;
-  const int gb = groupbit, nd = (int) dirichlet.size(), use_rmass = atom->rmass_flag;
-  double q = 0.0;
-  Kokkos::parallel_reduce("sphcut:heat:final_integrate",
-      sphcut::range<DeviceType>(0, atom->nlocal),
-      KOKKOS_LAMBDA(const int i, double &sum) {
-        const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
-        if (k < 0) return;
-        const int t = type(i);
-        const double m = use_rmass ? rmass(i) : mass(t);
-        sum += m * mat(t).cp * (dtemp(k) - st(i, FixSPHJCThermal::TEMP));
-        st(i, FixSPHJCThermal::TEMP) = dtemp(k);
-      },
-      q);
+  DirichletEnergy<DeviceType> k;
+  k.st = fixkk->k_state.template view<DeviceType>();
+  k.mask = atomKK->k_mask.view<DeviceType>();
+  k.type = atomKK->k_type.view<DeviceType>();
+  k.rmass = atomKK->k_rmass.view<DeviceType>();
+  k.mass = atomKK->k_mass.view<DeviceType>();
+  k.mat = d_mat;
+  k.db = d_dirbit;
+  k.dtemp = d_dirtemp;
+  k.gb = groupbit;
+  k.nd = (int) dirichlet.size();
+  k.use_rmass = atom->rmass_flag;
+  if (d_qdir.extent(0) != 2) d_qdir = Kokkos::View<double *, typename DeviceType::memory_space>("heat:qdir", 2);
+  k.acc = d_qdir;
+  // the sum goes to d_qdir(1) and is added to d_qdir(0) on the device (final): no host round trip
+  Kokkos::parallel_reduce("sphcut:heat:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k,
+                          Kokkos::subview(d_qdir, 1));
   fixkk->k_state.template modify<DeviceType>();
-  q_dirichlet += q;
+  qdir_stale = 1;
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_dirichlet()
+{
+  if (!qdir_stale) return;
+  qdir_stale = 0;
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d_qdir);
+  q_dirichlet += h(0);
+  Kokkos::deep_copy(Kokkos::subview(d_qdir, 0), 0.0);
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::write_restart(FILE *fp)
+{
+  fetch_dirichlet();
+  FixHeatFMFS::write_restart(fp);
+}
+
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_run()
+{
+  fetch_dirichlet();
+  FixHeatFMFS::post_run();
 }
 
 // element 5 (thermal energy) is summed on the device; the others are host scalars
 template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::compute_vector(int n)
 {
+  fetch_dirichlet();
   if (n != 4 || !fixkk) return FixHeatFMFS::compute_vector(n);
   atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
   fixkk->k_state.template sync<DeviceType>();

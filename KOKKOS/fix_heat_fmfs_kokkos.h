@@ -41,17 +41,21 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void post_force(int) override;
   void final_integrate() override;
   double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void post_run() override;
   double dt_limit(double, double F) const override;
   int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  bool begin_evaluation() override;
 
  public:    // (CUDA: a function that launches a device lambda must be public)
   FixSPHJCThermalKokkosBase *fixkk;
   ComputeSurfaceLambdaKokkosBase *surfkk;
   Kokkos::View<sphcut::Material *, typename DeviceType::memory_space> d_mat;
   Kokkos::View<double *, typename DeviceType::memory_space> d_hij, d_h;
+  Kokkos::View<sphcut::ThermalPair *, typename DeviceType::memory_space> d_tp;
   Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;
   Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;
   DAT::tdual_double_2d k_fwts;    // scheme flag and FMFS weights, local + ghost
@@ -59,6 +63,11 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   template <int DIM> void conduction_conservative_kk();
   void add_held();
   void set_dirichlet(bool also_temp);
+  // the heat the Dirichlet groups took since the host last read it (final_integrate adds to it on
+  // the device, no host round trip per step); fetch_dirichlet adds it to q_dirichlet
+  Kokkos::View<double *, typename DeviceType::memory_space> d_qdir;
+  int qdir_stale = 0;
+  void fetch_dirichlet();
 };
 
 }    // namespace LAMMPS_NS

@@ -74,6 +74,12 @@ void ComputeSurfaceLambda::init()
   fix->attach(this);
   // perpetual full list: the flags are needed every step by fix heat/fmfs
   sphcut::request_full_list(neighbor, this, instance_me, false, false);
+  const int nt = atom->ntypes + 1;
+  tpair.assign((size_t) nt * nt, sphcut::ThermalPair{});
+  for (int it = 1; it < nt; it++)
+    for (int jt = 1; jt < nt; jt++)
+      tpair[(size_t) it * nt + jt] =
+          sphcut::thermal_pair(pair->kernel(), domain->dimension, pair->smoothing_length(it, jt), 0.0, 0.0);
 }
 
 void ComputeSurfaceLambda::init_list(int, NeighList *ptr)
@@ -90,6 +96,13 @@ void ComputeSurfaceLambda::init_list(int, NeighList *ptr)
 void ComputeSurfaceLambda::compute_peratom()
 {
   sphcut::ScopedTimer timer(cpu_time);
+  if (!begin_step()) return;
+  if (domain->dimension == 2) compute_dim<2>();
+  else compute_dim<3>();
+}
+
+bool ComputeSurfaceLambda::begin_step()
+{
   invoked_peratom = update->ntimestep;
   if (atom->nmax > nmax) {
     nmax = atom->nmax;
@@ -98,9 +111,7 @@ void ComputeSurfaceLambda::compute_peratom()
     array_atom = out;
     last_step = -1;
   }
-  if (!recompute_due()) return;
-  if (domain->dimension == 2) compute_dim<2>();
-  else compute_dim<3>();
+  return recompute_due();
 }
 
 // whether the values must be computed now (and, if so, the step and list build they are for):
@@ -124,39 +135,34 @@ template <int DIM> void ComputeSurfaceLambda::compute_dim()
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
-  const int kernel = pair->kernel();
+  const int kernel = pair->kernel(), nt = atom->ntypes + 1;
+  const sphcut::ThermalPair *tp = tpair.data();
   using F = FixSPHJCThermal;
 
   for (int i = 0; i < atom->nlocal; i++)
     for (int k = 0; k < NCOLS; k++) out[i][k] = 0.0;
 
+  sphcut::SupportMoments<DIM> m;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
     const int itool = fix->role_of(mask[i]) == F::TOOL;
-    double B[DIM][DIM] = {}, gs[3] = {0.0, 0.0, 0.0};
+    const sphcut::ThermalPair *tpi = tp + type[i] * nt;
+    sphcut::support_zero<DIM>(m, false);
     const int *jlist = list->firstneigh[i];
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
       if (!(mask[j] & groupbit)) continue;
       if (!tool_hides && (fix->role_of(mask[j]) == F::TOOL) != itool) continue;
-      const double h = pair->smoothing_length(type[i], type[j]);
-      double r[3], r2;    // x_j - x_i
-      if (!sphcut::in_support(x[j], x[i], h, r, r2)) continue;
-      double w, wfac;
-      sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
+      double r[3], r2, wfac, ir2;    // r = x_j - x_i
+      if (!sphcut::thermal_support(tpi[type[j]], kernel, x[j], x[i], r, r2, wfac, ir2)) continue;
       const double vj = (rmass ? rmass[j] : mass[type[j]]) / st[j][F::RHO_F];
-      for (int a = 0; a < DIM; a++) {
-        const double g = -wfac * r[a] * vj;    // grad_i W V_j, grad_i W = wfac (x_i - x_j)
-        gs[a] += g;
-        for (int b = 0; b < DIM; b++) B[b][a] += r[b] * g;
-      }
+      sphcut::support_add_surface<DIM>(m, r, -wfac * vj);
     }
-    const double lam = sphcut::surface_lambda<DIM>(B);
+    double n[3];
+    const double lam = sphcut::support_surface<DIM>(m, threshold, n);
     out[i][LAMBDA] = lam;
     out[i][FLAG] = lam < threshold ? 1.0 : 0.0;
-    double n[3] = {0.0, 0.0, 0.0};
-    if (lam < threshold) sphcut::surface_normal<DIM>(B, gs, n);
     for (int a = 0; a < DIM; a++) out[i][NX + a] = n[a];
   }
 }

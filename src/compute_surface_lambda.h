@@ -14,7 +14,10 @@ ComputeStyle(surface/lambda,ComputeSurfaceLambda);
 #define LMP_COMPUTE_SURFACE_LAMBDA_H
 
 #include "compute.h"
+#include "sphcut_thermal.h"
 #include "sphcut_timer.h"
+
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -34,6 +37,16 @@ class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
   // for fix heat/fmfs: 1 if local atom i is a surface particle (valid after compute_peratom)
   int is_surface(int i) const { return out[i][FLAG] > 0.5; }
   double threshold;
+  // fix heat/fmfs may compute lambda, flag and normal in its own neighbour pass (the same
+  // sphcut_thermal.h arithmetic, bit for bit) when the compute sees the same neighbours:
+  // the same group and tool particles counted as neighbours (tool yes)
+  bool fusable(int fix_groupbit) const { return groupbit == fix_groupbit && tool_hides; }
+  // start an invocation at this step (invoked_peratom, output grown); true when the values
+  // must be computed now (the caller then fills them), false when they are kept
+  virtual bool begin_step();
+  double **values() { return out; }
+  // the type-pair constants of the pass (support, kernel normalisation), [itype * (ntypes+1) + jtype]
+  const sphcut::ThermalPair *type_pairs() const { return tpair.data(); }
   std::string timing_name() const override { return std::string("compute surface/lambda ") + id; }
 
  protected:
@@ -42,6 +55,7 @@ class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
   bigint last_step, last_neigh;
   int nmax;
   double **out;
+  std::vector<sphcut::ThermalPair> tpair;
   class NeighList *list;
   FixSPHJCThermal *fix;
   PairSPHJCThermal *pair;

@@ -57,7 +57,8 @@ static constexpr double THERMAL_CFL_MAX = 0.15;
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), scheme(FMFS), every(1), conservative(1), fwts(nullptr), nmax_fwts(0), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
     emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
-    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr)
+    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr),
+    fuse_surface(false)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -176,6 +177,12 @@ void FixHeatFMFS::init()
   if (emiss > 0.0 && strcmp(update->unit_style, "si") != 0)
     error->all(FLERR, "Fix heat/fmfs: radiation uses the SI Stefan-Boltzmann constant; use units si");
   sphcut::request_full_list(neighbor, this, instance_me, true, false);
+  const int nt = atom->ntypes + 1;
+  tpair.assign((size_t) nt * nt, sphcut::ThermalPair{});
+  for (int it = 1; it < nt; it++)
+    for (int jt = 1; jt < nt; jt++)
+      tpair[(size_t) it * nt + jt] = sphcut::thermal_pair(pair->kernel(), domain->dimension,
+                                                          pair->smoothing_length(it, jt), mat[it].kappa, mat[jt].kappa);
 }
 
 void FixHeatFMFS::init_list(int, NeighList *ptr)
@@ -246,7 +253,7 @@ void FixHeatFMFS::post_force(int)
   // thermal sub-cycling: the conduction and loss rates change on the thermal time scale,
   // far longer than the mechanical time step, so they may be evaluated every N steps
   const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
-  if (eval && surface && surface->invoked_peratom != update->ntimestep) surface->compute_peratom();
+  if (eval) begin_evaluation();
   sphcut::ScopedTimer timer(cpu_time);
   if (eval) {
     if (conservative) {
@@ -267,6 +274,19 @@ void FixHeatFMFS::post_force(int)
   }
   p_conv_prev = held_conv;
   p_rad_prev = held_rad;
+}
+
+// an evaluation step: the surface flags of this step.  The conservative form computes them
+// itself in its first pass where the compute sees the same neighbours (fuse_surface: one walk
+// over the neighbours for lambda, the normal and the FMFS moments, the kernel evaluated once);
+// otherwise the compute runs on its own.  Returns fuse_surface.
+bool FixHeatFMFS::begin_evaluation()
+{
+  fuse_surface = false;
+  if (!surface || surface->invoked_peratom == update->ntimestep) return false;    // none, or current
+  if (conservative && surface->fusable(groupbit)) fuse_surface = surface->begin_step();
+  else surface->compute_peratom();
+  return fuse_surface;
 }
 
 template <int DIM> void FixHeatFMFS::conduction()
@@ -358,8 +378,9 @@ template <int DIM> void FixHeatFMFS::conduction()
    conductance_mean), so sum m cp T changes only by sources, losses and Dirichlet
 ------------------------------------------------------------------------- */
 
-// scheme of local particle i: 1 FMFS (weights in wts), 0 Brookshaw
-template <int DIM> int FixHeatFMFS::fmfs_choice(int i, double *wts)
+// position, volume and predicted temperature of every particle of the group (local and ghost)
+// in one row of prow, so the neighbour loops read one short row per neighbour
+void FixHeatFMFS::gather_rows()
 {
   double **x = atom->x;
   const int *mask = atom->mask;
@@ -367,97 +388,199 @@ template <int DIM> int FixHeatFMFS::fmfs_choice(int i, double *wts)
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
-  const Material *mat = pair->materials();
   using F = FixSPHJCThermal;
-  const Material &mi = mat[type[i]];
-  const int surf = surface ? surface->is_surface(i) : 0;
-  if (scheme != FMFS || surf || !(mi.kappa > 0.0)) return 0;
-  sphcut::FmfsAccum<DIM> acc;
-  sphcut::fmfs_zero<DIM>(acc);
+  const int nall = atom->nlocal + atom->nghost;
+  if (prow.size() < (size_t) 5 * nall) prow.resize((size_t) 5 * atom->nmax);
+  for (int i = 0; i < nall; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    double *p = &prow[(size_t) 5 * i];
+    p[0] = x[i][0];
+    p[1] = x[i][1];
+    p[2] = x[i][2];
+    p[3] = (rmass ? rmass[i] : mass[type[i]]) / st[i][F::RHO_F];
+    p[4] = st[i][F::TEMP_F];
+  }
+}
+
+// the neighbours of local particle i within the support (of the group) into the nb_ buffers:
+// index, type, x_i - x_j, r^2, then their kernel factors wfac and 1/r^2.  All the pairs'
+// scalars first and the sums after (in the callers), so that the processor overlaps the pairs'
+// sqrt and division instead of waiting for each before the sums.  With half, a local j with a
+// smaller index and a list of its own (listed) is left out: i is in j's (full) list, so the
+// symmetric pair term is computed once, by j.  Returns the count.
+int FixHeatFMFS::gather_support(int i, bool half)
+{
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const int kernel = pair->kernel(), nt = atom->ntypes + 1;
+  const sphcut::ThermalPair *tpi = tpair.data() + type[i] * nt;
+  const double *pk = prow.data();
+  const double *xi = pk + 5 * i;
   const int *jlist = list->firstneigh[i];
-  for (int jj = 0; jj < list->numneigh[i]; jj++) {
+  const int jnum = list->numneigh[i];
+  if ((int) nb_j.size() < jnum) {
+    nb_j.resize(jnum);
+    nb_t.resize(jnum);
+    nb_dx.resize(3 * (size_t) jnum);
+    nb_r2.resize(jnum);
+    nb_wfac.resize(jnum);
+    nb_ir2.resize(jnum);
+  }
+  int n = 0;
+  for (int jj = 0; jj < jnum; jj++) {
     const int j = jlist[jj] & NEIGHMASK;
-    if (!(mask[j] & groupbit)) continue;
-    const double h = pair->smoothing_length(type[i], type[j]);
-    double dx[3], r2;
-    if (!sphcut::in_support(x[i], x[j], h, dx, r2)) continue;
-    if (mat[type[j]].kappa != mi.kappa) return 0;    // material interface: Brookshaw
-    double w, wfac;
-    sphcut::kernel_w_gradfac(pair->kernel(), DIM, sqrt(r2), h, w, wfac);
-    const double vj = (rmass ? rmass[j] : mass[type[j]]) / st[j][F::RHO_F];
-    const double r[3] = {-dx[0], -dx[1], -dx[2]};
-    const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
-    sphcut::fmfs_add<DIM>(acc, r, g, vj, 0.0);
+    if (!(mask[j] & groupbit) || (half && j < i && listed[j])) continue;
+    const int jt = type[j];
+    double r2;
+    if (!sphcut::thermal_in_support(tpi[jt], xi, pk + 5 * j, &nb_dx[3 * n], r2)) continue;
+    nb_j[n] = j;
+    nb_t[n] = jt;
+    nb_r2[n] = r2;
+    n++;
   }
-  if (sphcut::surface_lambda<DIM>(acc.B) < fmfs_lambda) return 0;
-  if (!sphcut::fmfs_weights<DIM>(acc, wts)) {
-    n_fallback++;
-    return 0;
-  }
-  return 1;
+  for (int k = 0; k < n; k++) sphcut::thermal_kernel(tpi[nb_t[k]], kernel, nb_r2[k], nb_wfac[k], nb_ir2[k]);
+  return n;
 }
 
 template <int DIM> void FixHeatFMFS::conduction_conservative()
 {
-  double **x = atom->x;
   const int *mask = atom->mask;
   const int *type = atom->type;
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
   const Material *mat = pair->materials();
-  const int kernel = pair->kernel();
+  const int nt = atom->ntypes + 1;
   using F = FixSPHJCThermal;
+  using CS = ComputeSurfaceLambda;
   if (atom->nmax > nmax_fwts) {
     nmax_fwts = atom->nmax;
     memory->destroy(fwts);
     memory->create(fwts, nmax_fwts, 1 + 3 * 3 + 3, "heat/fmfs:fwts");
   }
+  gather_rows();
+  const double *pk = prow.data();
   const int nall = atom->nlocal + atom->nghost;
   for (int i = 0; i < nall; i++) fwts[i][0] = 0.0;
+
+  // 1. one walk over the neighbours of each particle: the surface indicator (fused: into the
+  // compute's values) and the FMFS moments, then the scheme and the FMFS pair weights
+  const bool fuse = fuse_surface;
+  double **so = fuse ? surface->values() : nullptr;
+  const double thr = surface ? surface->threshold : 0.0;
+  if (fuse)
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < CS::NCOLS; k++) so[i][k] = 0.0;
+  sphcut::SupportMoments<DIM> m;
+  sphcut::FmfsAccum<DIM> acc;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
-    if (!(mask[i] & groupbit) || mat[type[i]].cp <= 0.0) continue;
-    fwts[i][0] = fmfs_choice<DIM>(i, &fwts[i][1]);
+    if (!(mask[i] & groupbit)) continue;
+    const Material &mi = mat[type[i]];
+    const int conducts = mi.cp > 0.0;
+    // FMFS candidate: with the fused compute the surface flag and lambda come after the walk
+    int cand = conducts && scheme == FMFS && mi.kappa > 0.0 && !(!fuse && surface && surface->is_surface(i));
+    if (!fuse && !cand) {
+      if (conducts) n_brookshaw++;
+      continue;
+    }
+    const int n = gather_support(i, false);
+    const sphcut::ThermalPair *tpi = tpair.data() + type[i] * nt;
+    for (int k = 0; k < n && cand; k++)
+      if (!tpi[nb_t[k]].same_kappa) cand = 0;    // material interface: Brookshaw
+    double lam = 0.0;
+    sphcut::support_zero<DIM>(m, cand);
+    if (fuse || cand) {
+      for (int k = 0; k < n; k++) {
+        const double *d = &nb_dx[3 * k];
+        const double r[3] = {-d[0], -d[1], -d[2]};    // x_j - x_i
+        sphcut::support_add_surface<DIM>(m, r, -nb_wfac[k] * pk[5 * nb_j[k] + 3]);
+      }
+      double B[DIM][DIM];
+      sphcut::support_matrix<DIM>(m, B);
+      lam = sphcut::surface_lambda<DIM>(B);
+    }
+    if (fuse) {
+      double n_[3] = {0.0, 0.0, 0.0};
+      if (lam < thr) {
+        double B[DIM][DIM];
+        sphcut::support_matrix<DIM>(m, B);
+        sphcut::surface_normal<DIM>(B, m.gs, n_);
+        cand = 0;
+      }
+      so[i][CS::LAMBDA] = lam;
+      so[i][CS::FLAG] = lam < thr ? 1.0 : 0.0;
+      for (int a = 0; a < DIM; a++) so[i][CS::NX + a] = n_[a];
+    }
+    if (!conducts) continue;
+    // FMFS only with a full enough kernel support (lambda >= fmfs_lambda)
+    if (cand && lam >= fmfs_lambda) {
+      for (int k = 0; k < n; k++) {
+        const double *d = &nb_dx[3 * k];
+        const double r[3] = {-d[0], -d[1], -d[2]};
+        sphcut::support_add_fmfs<DIM>(m, r, -nb_wfac[k] * pk[5 * nb_j[k] + 3], nb_ir2[k]);
+      }
+      sphcut::support_to_fmfs<DIM>(m, acc);
+      if (sphcut::fmfs_weights<DIM>(acc, &fwts[i][1])) fwts[i][0] = 1.0;
+      else n_fallback++;
+    }
     if (fwts[i][0] > 0.0) n_fmfs++;
     else n_brookshaw++;
   }
   sphcut::forward_comm(comm, this);
 
+  // 2. the pairwise exchange with the mean of the two sides' weights: the conductance c_ij is
+  // symmetric, so a pair of two local particles is computed once and moves heat both ways
+  const int nlocal = atom->nlocal;
+  if (rate_sum.size() < (size_t) nlocal) rate_sum.resize(atom->nmax);
+  double *rate = rate_sum.data();    // rho cp dT/dt
+  for (int i = 0; i < nlocal; i++) rate[i] = 0.0;
+  // (neigh_modify include may leave particles without a list of their own: their pairs are
+  // computed from the other side in full)
+  listed.assign(nlocal, 0);
+  for (int ii = 0; ii < list->inum; ii++)
+    if (mask[list->ilist[ii]] & groupbit) listed[list->ilist[ii]] = 1;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const int itype = type[i];
+    const double ki = mat[itype].kappa;
+    const double *xi = pk + 5 * i;
+    const double Ti = xi[4], Vi = xi[3];
+    const int fi = fwts[i][0] > 0.0;
+    const double *wi = &fwts[i][1];
+    const sphcut::ThermalPair *tpi = tpair.data() + itype * nt;
+    const int n = gather_support(i, true);
+    double ri = 0.0;
+    for (int k = 0; k < n; k++) {
+      const int j = nb_j[k];
+      const double *dx = &nb_dx[3 * k];
+      const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
+      const double *wj = fwts[j];
+      const double brook = tpi[nb_t[k]].brook;
+      const double ai = fi ? ki * sphcut::fmfs_pair_weight_radial<DIM>(wi, dx, nb_ir2[k]) : brook;
+      const double aj =
+          wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
+      const double c = nb_wfac[k] * sphcut::conductance_mean(ai, aj), dT = pk[5 * j + 4] - Ti;
+      ri += pk[5 * j + 3] * c * dT;
+      if (j < nlocal) rate[j] -= Vi * c * dT;
+    }
+    rate[i] += ri;
+  }
+
+  // the temperature rates and the surface losses
   double p_conv = 0.0, p_rad = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) st[i][F::HELD] = 0.0;
+  for (int i = 0; i < nlocal; i++) st[i][F::HELD] = 0.0;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
     const int itype = type[i];
     const Material &mi = mat[itype];
     if (mi.cp <= 0.0) continue;
-    const double Ti = st[i][F::TEMP_F];
+    const double Ti = pk[5 * i + 4];
     const double rhoi = st[i][F::RHO_F];
     const double massi = rmass ? rmass[i] : mass[itype];
-    const int fi = fwts[i][0] > 0.0;
-    double rate = 0.0;    // rho cp dT/dt
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      if (!(mask[j] & groupbit)) continue;
-      const int jtype = type[j];
-      const double h = pair->smoothing_length(itype, jtype);
-      double dx[3], r2;
-      if (!sphcut::in_support(x[i], x[j], h, dx, r2)) continue;
-      double w, wfac;
-      sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
-      const double kj = mat[jtype].kappa;
-      const double sb = -2.0 * sphcut::harmonic_mean(mi.kappa, kj) * wfac;    // Brookshaw
-      const double r[3] = {-dx[0], -dx[1], -dx[2]};                           // x_j - x_i
-      const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};         // grad_i W_ij
-      const double mr[3] = {dx[0], dx[1], dx[2]}, mg[3] = {-g[0], -g[1], -g[2]};
-      const double sij = fi ? mi.kappa * sphcut::fmfs_pair_weight<DIM>(&fwts[i][1], r, g) : sb;
-      const double sji = fwts[j][0] > 0.0 ? kj * sphcut::fmfs_pair_weight<DIM>(&fwts[j][1], mr, mg) : sb;
-      const double vj = (rmass ? rmass[j] : mass[jtype]) / st[j][F::RHO_F];
-      rate += vj * sphcut::conductance_mean(sij, sji) * (st[j][F::TEMP_F] - Ti);
-    }
-    double dT = rate / (rhoi * mi.cp);
+    double dT = rate[i] / (rhoi * mi.cp);
     const int surf = surface ? surface->is_surface(i) : 0;
     if (surf && (hconv > 0.0 || emiss > 0.0)) {
       double qc, qr;
@@ -491,7 +614,7 @@ void FixHeatFMFS::unpack_forward_comm(int n, int first, double *buf)
 
 double FixHeatFMFS::memory_usage()
 {
-  return (double) nmax_fwts * (1 + 3 * 3 + 3) * sizeof(double);
+  return (double) nmax_fwts * (1 + 3 * 3 + 3) * sizeof(double) + (double) prow.capacity() * sizeof(double);
 }
 
 /* ----------------------------------------------------------------------

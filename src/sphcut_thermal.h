@@ -44,6 +44,7 @@
 #ifndef SPHCUT_THERMAL_H
 #define SPHCUT_THERMAL_H
 
+#include "sphcut_kernels.h"
 #include "sphcut_math.h"
 
 namespace sphcut {
@@ -526,6 +527,206 @@ template <int DIM>
 SPHCUT_INLINE bool surface_normal(const FmfsAccum<DIM> &acc, double *n, double tol = SPHCUT_FMFS_TOL)
 {
   return surface_normal<DIM>(acc.B, acc.gs, n, tol);
+}
+
+// ---------------------------------------------------------------------------
+// the fused neighbour pass of fix heat/fmfs and compute surface/lambda (radial kernels)
+//
+// With a radial kernel g = grad_i W_ij = wfac (x_i - x_j) = -wfac r, so every moment of
+// FmfsAccum is a sum of monomials of r with the one pair scalar s = -wfac V_j (>= 0):
+//   B_ab   = sum s r_a r_b            gs_a    = sum s r_a
+//   Q3_abc = sum s r_a r_b r_c        T3_abc  = sum s r_a r_b r_c / r^2
+//   P4_abcd = sum s r_a r_b r_c r_d / r^2
+// all fully symmetric: 6 + 3 + 10 + 10 + 15 = 44 sums in 3D (FmfsAccum: 90), no sqrt and
+// no division per pair beyond the kernel's.  One walk over the neighbours gives the
+// surface indicator (B, gs) and the FMFS moments; support_to_fmfs expands them into
+// FmfsAccum for fmfs_weights (equal to fmfs_add's sums up to round-off).
+
+// constants of an (itype, jtype) pair for the thermal passes
+struct ThermalPair {
+  double cutsq;    // (2h)^2, the support
+  double inv_h;    // 1/h
+  double wnorm;    // sigma_d / h^d
+  double brook;    // Brookshaw's conductance over wfac: -2 kbar, kbar = harmonic_mean(ki, kj)
+  int same_kappa;  // 1: ki == kj (FMFS may span the pair; otherwise a material interface)
+};
+
+SPHCUT_INLINE ThermalPair thermal_pair(int kind, int dim, double h, double ki, double kj)
+{
+  ThermalPair tp;
+  tp.cutsq = 4.0 * h * h;
+  tp.inv_h = 1.0 / h;
+  tp.wnorm = kernel_sigma(kind, dim) / (dim == 2 ? h * h : h * h * h);
+  tp.brook = -2.0 * harmonic_mean(ki, kj);
+  tp.same_kappa = ki == kj;
+  return tp;
+}
+
+// the pair within the support: dx = x_i - x_j, r2 = |dx|^2; false beyond the support or for
+// coincident particles (in_support's rule)
+SPHCUT_INLINE bool thermal_in_support(const ThermalPair &tp, const double *xi, const double *xj, double *dx,
+                                      double &r2)
+{
+  r2 = 0.0;
+  for (int a = 0; a < 3; a++) {
+    dx[a] = xi[a] - xj[a];
+    r2 += dx[a] * dx[a];
+  }
+  return r2 < tp.cutsq && r2 != 0.0;
+}
+
+// the kernel of a pair within the support: grad_i W_ij = wfac dx, and ir2 = 1/r2 (one sqrt, one
+// division)
+SPHCUT_INLINE void thermal_kernel(const ThermalPair &tp, int kind, double r2, double &wfac, double &ir2)
+{
+  const double r = sqrt(r2), ir = 1.0 / r;
+  double f, df;
+  kernel_shape(kind, r * tp.inv_h, f, df);
+  wfac = tp.wnorm * df * tp.inv_h * ir;
+  ir2 = ir * ir;
+}
+
+// both: the pair's dx, r2, wfac, ir2; false beyond the support
+SPHCUT_INLINE bool thermal_support(const ThermalPair &tp, int kind, const double *xi, const double *xj,
+                                   double *dx, double &r2, double &wfac, double &ir2)
+{
+  if (!thermal_in_support(tp, xi, xj, dx, r2)) return false;
+  thermal_kernel(tp, kind, r2, wfac, ir2);
+  return true;
+}
+
+template <int DIM> struct SupportMoments {
+  static constexpr int NS = DIM * (DIM + 1) / 2;                            // symmetric pairs
+  static constexpr int NT = DIM * (DIM + 1) * (DIM + 2) / 6;                // triples
+  static constexpr int NQ = DIM * (DIM + 1) * (DIM + 2) * (DIM + 3) / 24;   // quadruples
+  double B[NS];     // sum s r_a r_b             [pair(a,b)]
+  double gs[DIM];   // sum s r_a
+  double Q3[NT];    // sum s r_a r_b r_c         [triple(a,b,c)]
+  double T3[NT];    // sum s r_a r_b r_c / r^2
+  double P4[NQ];    // sum s r_a r_b r_c r_d / r^2  [quad(a,b,c,d)]
+};
+
+// packed index of the symmetric quadruple (a <= b <= c <= d), colex as the others
+SPHCUT_INLINE int sym_quad_index(int a, int b, int c, int d)
+{
+  int v[4] = {a, b, c, d};
+  for (int i = 1; i < 4; i++)
+    for (int k = i; k > 0 && v[k - 1] > v[k]; k--) {
+      const int t = v[k]; v[k] = v[k - 1]; v[k - 1] = t;
+    }
+  return v[0] + v[1] * (v[1] + 1) / 2 + v[2] * (v[2] + 1) * (v[2] + 2) / 6 +
+      v[3] * (v[3] + 1) * (v[3] + 2) * (v[3] + 3) / 24;
+}
+
+// zero the surface part (B, gs) and, with fmfs, the FMFS part (Q3, T3, P4)
+template <int DIM> SPHCUT_INLINE void support_zero(SupportMoments<DIM> &m, bool fmfs)
+{
+  for (int p = 0; p < SupportMoments<DIM>::NS; p++) m.B[p] = 0.0;
+  for (int a = 0; a < DIM; a++) m.gs[a] = 0.0;
+  if (!fmfs) return;
+  for (int t = 0; t < SupportMoments<DIM>::NT; t++) m.Q3[t] = m.T3[t] = 0.0;
+  for (int q = 0; q < SupportMoments<DIM>::NQ; q++) m.P4[q] = 0.0;
+}
+
+// the surface part of neighbour j: r = x_j - x_i, s = -wfac V_j
+template <int DIM> SPHCUT_INLINE void support_add_surface(SupportMoments<DIM> &m, const double *r, double s)
+{
+  int p = 0;
+  for (int b = 0; b < DIM; b++) {
+    const double sr = s * r[b];
+    m.gs[b] += sr;
+    for (int a = 0; a <= b; a++) m.B[p++] += sr * r[a];
+  }
+}
+
+// the FMFS part of neighbour j (r, s as above, ir2 = 1/|r|^2)
+template <int DIM>
+SPHCUT_INLINE void support_add_fmfs(SupportMoments<DIM> &m, const double *r, double s, double ir2)
+{
+  double m2[SupportMoments<DIM>::NS], m3[SupportMoments<DIM>::NT];
+  int p = 0;
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) m2[p++] = r[a] * r[b];
+  int t = 0;
+  for (int c = 0; c < DIM; c++)
+    for (int b = 0; b <= c; b++)
+      for (int a = 0; a <= b; a++) m3[t++] = r[a] * m2[b + c * (c + 1) / 2];
+  const double u = s * ir2;
+  for (int k = 0; k < SupportMoments<DIM>::NT; k++) {
+    m.Q3[k] += s * m3[k];
+    m.T3[k] += u * m3[k];
+  }
+  int q = 0;
+  for (int d = 0; d < DIM; d++)
+    for (int c = 0; c <= d; c++)
+      for (int b = 0; b <= c; b++) {
+        const double ub = u * r[d] * r[c] * r[b];
+        for (int a = 0; a <= b; a++) m.P4[q++] += ub * r[a];
+      }
+}
+
+// the FMFS moments as FmfsAccum (gT = S1 = 0: the weights need no temperatures)
+template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> &m, FmfsAccum<DIM> &acc)
+{
+  for (int a = 0; a < DIM; a++) {
+    acc.gT[a] = 0.0;
+    acc.gs[a] = m.gs[a];
+    for (int b = 0; b < DIM; b++) {
+      acc.B[a][b] = m.B[sym_pair_index(a, b)];
+      acc.S1[a][b] = 0.0;
+    }
+  }
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) {
+      const int p = sym_pair_index(a, b);
+      for (int c = 0; c < DIM; c++) {
+        const int t = sym_triple_index(a, b, c);
+        acc.T3[p][c] = m.T3[t];
+        acc.Q3[p][c] = m.Q3[t];
+      }
+    }
+  for (int c = 0; c < DIM; c++)
+    for (int b = 0; b <= c; b++)
+      for (int a = 0; a <= b; a++) {
+        const int t = sym_triple_index(a, b, c);
+        for (int d = 0; d < DIM; d++) acc.P4[t][d] = m.P4[sym_quad_index(a, b, c, d)];
+      }
+}
+
+// B of the moments as a full matrix (for surface_lambda, surface_normal, dense_inverse)
+template <int DIM> SPHCUT_INLINE void support_matrix(const SupportMoments<DIM> &m, double (&B)[DIM][DIM])
+{
+  for (int a = 0; a < DIM; a++)
+    for (int b = 0; b < DIM; b++) B[a][b] = m.B[sym_pair_index(a, b)];
+}
+
+// the surface indicator of the moments: lambda, and with lambda < threshold the normal
+// (n = 0 otherwise); returns lambda
+template <int DIM>
+SPHCUT_INLINE double support_surface(const SupportMoments<DIM> &m, double threshold, double *n)
+{
+  double B[DIM][DIM];
+  support_matrix<DIM>(m, B);
+  const double lam = surface_lambda<DIM>(B);
+  for (int a = 0; a < DIM; a++) n[a] = 0.0;
+  if (lam < threshold) surface_normal<DIM>(B, m.gs, n);
+  return lam;
+}
+
+// one side's FMFS weight over wfac for the radial kernel: w_self,other = wfac *
+// fmfs_pair_weight_radial(wts_self, d, ir2), d = x_self - x_other, ir2 = 1/|d|^2;
+// = fmfs_pair_weight (r = -d, g = wfac d) without its sqrt and division:
+//   2/|r| e.Gf.g + z.g = wfac (z.d - 2 d.Gf.d / |d|^2)
+template <int DIM> SPHCUT_INLINE double fmfs_pair_weight_radial(const double *wts, const double *d, double ir2)
+{
+  double q = 0.0, zd = 0.0;
+  for (int c = 0; c < DIM; c++) {
+    double gc = 0.0;
+    for (int e = 0; e < DIM; e++) gc += wts[DIM * c + e] * d[e];
+    q += d[c] * gc;
+    zd += wts[DIM * DIM + c] * d[c];
+  }
+  return zd - 2.0 * q * ir2;
 }
 
 }    // namespace sphcut

@@ -302,6 +302,113 @@ TEST(Fmfs, PairWeightsReproduceLaplacian)
 
 // not exact beyond quadratic: a cubic field shows an O(h) error at the
 // boundary, but stays close inside (the test above is thus not vacuous)
+// the fused pass of fix heat/fmfs and compute surface/lambda (SupportMoments, thermal_support,
+// fmfs_pair_weight_radial) against the general forms (fmfs_add, kernel_w_gradfac,
+// fmfs_pair_weight, surface_lambda / surface_normal of FmfsAccum) on jittered clouds with the
+// boundary: the same sums up to round-off, and the same weights, lambda and normal
+template <int DIM>
+void check_support_moments(const Cloud &c, int kind, double h, double &dmom, double &dw, double &dsurf, double &dlap)
+{
+  // T = sum x_a^2 + x_0 x_1: lap T = 2 DIM
+  auto field = [](const double *x) { return x[0] * x[0] + x[1] * x[1] + (DIM == 3 ? x[2] * x[2] : 0.0) + x[0] * x[1]; };
+  dlap = 0.0;
+  const ThermalPair tp = thermal_pair(kind, DIM, h, 1.0, 1.0);
+  dmom = dw = dsurf = 0.0;
+  auto rel = [](double a, double b, double scale) { return fabs(a - b) / scale; };
+  for (int i = 0; i < c.n(); i++) {
+    FmfsAccum<DIM> ref, got;
+    std::vector<double> T(c.n(), 0.0);
+    fmfs_accumulate<DIM>(c, i, kind, h, T, ref);
+    SupportMoments<DIM> m;
+    support_zero<DIM>(m, true);
+    for (int j = 0; j < c.n(); j++) {
+      double dx[3], r2, wfac, ir2, w, wref;
+      if (!thermal_support(tp, kind, c.pos(i), c.pos(j), dx, r2, wfac, ir2)) continue;
+      kernel_w_gradfac(kind, DIM, sqrt(r2), h, w, wref);
+      // (the kernel's derivative cancels inside the support: round-off relative to its scale)
+      EXPECT_NEAR(wfac, wref, 1e-14 * (fabs(wref) + tp.wnorm * tp.inv_h * tp.inv_h));
+      EXPECT_NEAR(ir2 * r2, 1.0, 1e-15);
+      const double r[3] = {-dx[0], -dx[1], -dx[2]};
+      support_add_surface<DIM>(m, r, -wfac * c.V[j]);
+      support_add_fmfs<DIM>(m, r, -wfac * c.V[j], ir2);
+    }
+    support_to_fmfs<DIM>(m, got);
+    // moments: scale of each family (B ~ 1, the third and fourth moments ~ h, gs ~ 1/h)
+    double sB = 0.0, s3 = 0.0, s4 = 0.0, sQ = 0.0, sg = 1e-300;
+    for (int a = 0; a < DIM; a++) {
+      sg = std::max(sg, fabs(ref.gs[a]));
+      for (int b = 0; b < DIM; b++) sB = std::max(sB, fabs(ref.B[a][b]));
+    }
+    for (int p = 0; p < FmfsAccum<DIM>::NS; p++)
+      for (int d = 0; d < DIM; d++) {
+        s3 = std::max(s3, fabs(ref.T3[p][d]));
+        sQ = std::max(sQ, fabs(ref.Q3[p][d]));
+      }
+    for (int t = 0; t < FmfsAccum<DIM>::NT; t++)
+      for (int d = 0; d < DIM; d++) s4 = std::max(s4, fabs(ref.P4[t][d]));
+    for (int a = 0; a < DIM; a++) {
+      dmom = std::max(dmom, rel(got.gs[a], ref.gs[a], std::max(sg, sB / h)));
+      for (int b = 0; b < DIM; b++) dmom = std::max(dmom, rel(got.B[a][b], ref.B[a][b], sB));
+    }
+    for (int p = 0; p < FmfsAccum<DIM>::NS; p++)
+      for (int d = 0; d < DIM; d++) {
+        dmom = std::max(dmom, rel(got.T3[p][d], ref.T3[p][d], s3));
+        dmom = std::max(dmom, rel(got.Q3[p][d], ref.Q3[p][d], sQ));
+      }
+    for (int t = 0; t < FmfsAccum<DIM>::NT; t++)
+      for (int d = 0; d < DIM; d++) dmom = std::max(dmom, rel(got.P4[t][d], ref.P4[t][d], s4));
+    // surface indicator: lambda and normal of the packed B against those of FmfsAccum
+    double n[3], nref[3] = {0.0, 0.0, 0.0};
+    const double lam = support_surface<DIM>(m, 0.75, n), lref = surface_lambda<DIM>(ref);
+    if (lref < 0.75) surface_normal<DIM>(ref, nref);
+    dsurf = std::max(dsurf, fabs(lam - lref));
+    for (int a = 0; a < DIM; a++) dsurf = std::max(dsurf, fabs(n[a] - nref[a]));
+    // pair weights of both sides: w = wfac * fmfs_pair_weight_radial
+    double W[DIM * DIM + DIM], Wr[DIM * DIM + DIM];
+    if (!fmfs_weights<DIM>(ref, W) || !fmfs_weights<DIM>(got, Wr)) continue;
+    double lap = 0.0;
+    for (int j = 0; j < c.n(); j++) {
+      double dx[3], r2, wfac, ir2;
+      if (!thermal_support(tp, kind, c.pos(i), c.pos(j), dx, r2, wfac, ir2)) continue;
+      lap += c.V[j] * wfac * fmfs_pair_weight_radial<DIM>(Wr, dx, ir2) * (field(c.pos(j)) - field(c.pos(i)));
+      // the weights themselves only where the G system is well conditioned (a full support)
+      if (c.layer[i] < 2) continue;
+      const double r[3] = {-dx[0], -dx[1], -dx[2]}, g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+      const double wij = fmfs_pair_weight<DIM>(W, r, g);
+      const double mg[3] = {-g[0], -g[1], -g[2]};
+      const double wji = fmfs_pair_weight<DIM>(W, dx, mg);    // i's weights seen from the other side
+      const double scale = std::max(1.0, fabs(wij)) + fabs(wfac) / r2;
+      dw = std::max(dw, fabs(wfac * fmfs_pair_weight_radial<DIM>(Wr, dx, ir2) - wij) / scale);
+      dw = std::max(dw, fabs(wfac * fmfs_pair_weight_radial<DIM>(Wr, r, ir2) - wji) / scale);
+    }
+    dlap = std::max(dlap, fabs(lap - 2.0 * DIM));
+  }
+}
+
+TEST(Fmfs, FusedSupportMomentsMatchGeneralForms)
+{
+  double dmom, dw, dsurf, dlap;
+  for (int kind : {KERNEL_CUBIC, KERNEL_WENDLAND, KERNEL_HYPERBOLIC}) {
+    check_support_moments<2>(jittered(2, 13, 0.25, 7), kind, 2.0 / 12 * 1.3, dmom, dw, dsurf, dlap);
+    printf("  fused moments 2D %-10s: moments %.2e, interior weights %.2e, lambda/normal %.2e, |lap - 4| %.2e\n",
+           kname(kind), dmom, dw, dsurf, dlap);
+    EXPECT_LT(dmom, 5e-14);
+    EXPECT_LT(dw, 5e-15);
+    EXPECT_LT(dsurf, 2e-14);
+    EXPECT_LT(dlap, 3e-9);
+    check_support_moments<3>(jittered(3, 7, 0.2, 11), kind, 2.0 / 6 * 1.3, dmom, dw, dsurf, dlap);
+    printf("  fused moments 3D %-10s: moments %.2e, interior weights %.2e, lambda/normal %.2e, |lap - 6| %.2e\n",
+           kname(kind), dmom, dw, dsurf, dlap);
+    EXPECT_LT(dmom, 5e-14);
+    EXPECT_LT(dw, 5e-15);
+    EXPECT_LT(dsurf, 2e-14);
+    EXPECT_LT(dlap, 3e-9);
+  }
+  EXPECT_EQ(sym_quad_index(0, 0, 0, 0), 0);
+  EXPECT_EQ(sym_quad_index(2, 2, 2, 2), 14);
+  EXPECT_EQ(sym_quad_index(1, 0, 2, 1), sym_quad_index(0, 1, 1, 2));
+}
+
 TEST(Fmfs, CubicFieldNotExactButConsistent)
 {
   const Cloud c = lattice(2, 21);

@@ -762,6 +762,60 @@ TEST(Insulated, FmfsWithSurfaceBounded)
   EXPECT_LT(fabs(E1 - E0), 1e-3 * E0);
 }
 
+// fix heat/fmfs computes the surface compute's lambda, flag and normal in its own first pass
+// where the compute sees the same neighbours (same group, tool yes); with `tool no` (no tool
+// particles here: the same neighbours) the compute runs on its own.  A deforming, cooling
+// block (compressed, plastic heating, convection) gives the same temperatures, surface values
+// and energy budget both ways.
+TEST(Surface, FusedWithHeatFixMatchesStandalone)
+{
+  std::vector<double> T[2], lam[2], nrm[2];
+  double e[2][6];
+  for (int k = 0; k < 2; k++) {
+    Lammps l;
+    l.cmds({"units si", "dimension 3", "boundary f f f", "atom_style atomic", "atom_modify map array",
+            "lattice sc 1e-4", "region box block -4 12 -4 12 -4 12", "create_box 1 box",
+            "region blk block -0.01 8.01 -0.01 8.01 -0.01 8.01", "create_atoms 1 region blk",
+            "mass 1 $(7800*1e-12)", "variable vz atom -5e4*(z-4e-4)", "velocity all set 0 0 v_vz units box",
+            "pair_style sph/jc-thermal",
+            "pair_coeff * * rho0 7800 E 200e9 nu 0.3 hdx 1.3 A 350e6 B 275e6 n 0.36 C 0.022 m 1.0 "
+            "Tref 300 Tmelt 1800 cp 477 chi 0.9 k 50",
+            "variable t0 atom 300+400*(x<4e-4)", "fix sph all sph/jc-thermal temp v_t0",
+            std::string("compute surf all surface/lambda") + (k ? " tool no" : ""),
+            "fix heat all heat/fmfs surface surf convection 1e6 300", "timestep 5e-9", "run 60"});
+    auto *fix = state_fix(l);
+    double **s = get_compute(l, "surf")->array_atom;
+    const int n = l.lmp->atom->nlocal;
+    T[k].assign(n + 1, 0.0);
+    lam[k].assign(n + 1, 0.0);
+    nrm[k].assign(3 * (n + 1), 0.0);
+    for (int i = 0; i < n; i++) {    // by tag (the runs sort alike, but do not rely on it)
+      const int t = (int) l.lmp->atom->tag[i];
+      T[k][t] = fix->state[i][F::TEMP];
+      lam[k][t] = s[i][0];
+      for (int a = 0; a < 3; a++) nrm[k][3 * t + a] = s[i][2 + a];
+    }
+    for (int c = 0; c < 6; c++) e[k][c] = l.equal("f_heat[" + std::to_string(c + 1) + "]");
+  }
+  double dT = 0.0, dl = 0.0, dn = 0.0, tmax = 0.0;
+  for (size_t t = 1; t < T[0].size(); t++) {
+    dT = std::max(dT, fabs(T[0][t] - T[1][t]));
+    tmax = std::max(tmax, T[0][t]);
+    dl = std::max(dl, fabs(lam[0][t] - lam[1][t]));
+    for (int a = 0; a < 3; a++) dn = std::max(dn, fabs(nrm[0][3 * t + a] - nrm[1][3 * t + a]));
+  }
+  printf("[ surface ] fused / standalone compute: |dT| %.3e K (T up to %.2f K), |d lambda| %.3e, |d n| %.3e, "
+         "convection %.6g / %.6g J\n", dT, tmax, dl, dn, e[0][0], e[1][0]);
+  EXPECT_EQ(T[0].size(), (size_t) 730);
+  EXPECT_GT(tmax, 650.0);       // the hot half, still hot
+  EXPECT_GT(e[0][0], 0.0);      // convection through the flagged surface
+  // the same arithmetic both ways (sphcut_thermal.h): equal to the bit here; round-off bounds
+  EXPECT_LT(dT, 1e-12);
+  EXPECT_LT(dl, 1e-15);
+  EXPECT_LT(dn, 1e-15);
+  for (int c = 0; c < 5; c++) EXPECT_NEAR(e[0][c], e[1][c], 1e-14 * (fabs(e[0][c]) + 1e-30)) << c;
+}
+
 // ---------------------------------------------------------------------------
 // 6. surface flags
 

@@ -10,9 +10,9 @@
 # a shared machine is noisy.  Prints the loop time and particle-steps/s of every run, the
 # means, sphcut's speed relative to MACHDYN, and sphcut's timing table of its last runs.
 # Builds nothing: MACHDYN is in the cached LAMMPS build (tools/build-deps.sh), the plugin
-# in build/ (make build).  SPHCUT_BEFORE=<folder with another sphcutplugin.so> adds a case
-# `before`: the mechanics with that plugin (e.g. built from an older commit), in the same
-# alternation, for before/after figures.
+# in build/ (make build).  SPHCUT_BEFORE=<folder with another sphcutplugin.so> adds the cases
+# `before` and `before_th`: the mechanics and the thermal case with that plugin (e.g. built
+# from an older commit), in the same alternation, for before/after figures.
 # Usage: bash bench/machdyn/run.sh [n] [steps] [reps]     (logs kept in $OUT, default a temp dir)
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -32,6 +32,7 @@ run_case() {    # case rep -> prints "case rep atoms steps loop_s user_s"
   case $c in
     machdyn) cmd=("$LMP_PLAIN" -in "$here/in.machdyn" -var n "$n" -var steps "$steps" -log "$log") ;;
     before)  cmd=(env LAMMPS_PLUGIN_PATH="$SPHCUT_BEFORE" "${cmd[@]}" -var thermal 0) ;;
+    before_th) cmd=(env LAMMPS_PLUGIN_PATH="$SPHCUT_BEFORE" "${cmd[@]}" -var thermal 1) ;;
     sphcut)  cmd+=(-var thermal 0) ;;
     thermal) cmd+=(-var thermal 1) ;;
   esac
@@ -44,7 +45,7 @@ run_case() {    # case rep -> prints "case rep atoms steps loop_s user_s"
 echo "# $(date -u +%FT%TZ) $(hostname) $(getconf _NPROCESSORS_ONLN) cores, load $(cut -d' ' -f1-3 /proc/loadavg); n=$n steps=$steps reps=$reps; logs in $out"
 printf '%-8s %3s %7s %6s %9s %14s %8s %14s\n' case rep atoms steps loop_s particle-steps/s user_s per_user_s
 cases="machdyn sphcut thermal"
-[ -n "${SPHCUT_BEFORE:-}" ] && cases="machdyn before sphcut thermal"
+[ -n "${SPHCUT_BEFORE:-}" ] && cases="machdyn before sphcut thermal before_th"
 for r in $(seq 1 "$reps"); do
   for c in $cases; do
     run_case "$c" "$r"
@@ -60,7 +61,9 @@ awk '{s[$1] += $3 * $4 / $5; u[$1] += $3 * $4 / $7; t[$1] += $5; tu[$1] += $7; k
                                   rate("sphcut") / rate("before"), urate("sphcut") / urate("before"));
           printf("sphcut mechanics / MACHDYN speed (wall / user CPU): %.2fx / %.2fx; thermal part (fix heat/fmfs + compute surface/lambda) costs %.2fx / %.2fx the mechanics\n",
                  rate("sphcut") / rate("machdyn"), urate("sphcut") / urate("machdyn"),
-                 (t["thermal"] - t["sphcut"]) / t["sphcut"], (tu["thermal"] - tu["sphcut"]) / tu["sphcut"])}' results.txt
+                 (t["thermal"] - t["sphcut"]) / t["sphcut"], (tu["thermal"] - tu["sphcut"]) / tu["sphcut"]);
+          if (k["before_th"]) printf("before: thermal part costs %.2fx / %.2fx the mechanics (wall / user CPU)\n",
+                                     (t["before_th"] - t["before"]) / t["before"], (tu["before_th"] - tu["before"]) / tu["before"])}' results.txt
 for c in $cases; do
   [ "$c" = machdyn ] && continue
   echo "sphcut timing table, $c, last run:"

@@ -35,6 +35,16 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   out[3] = fmfs_weights<2>(a2, wts) + fmfs_pair_weight<3>(wts, r, gg) + thermal_dt_limit(1, 1, 1, 1, 0.1, 1);
   double n[3], q[3], d, qc, qr;
   surface_normal<3>(a3.B, gg, n);
+  // the fused pass of fix heat/fmfs and compute surface/lambda
+  const ThermalPair tp = thermal_pair(s[16] > 0.0 ? 1 : 0, 3, s[17], s[18], s[19]);
+  SupportMoments<3> m3; support_zero<3>(m3, true);
+  double dx[3], r2, wfac, ir2;
+  if (thermal_support(tp, 0, r, gg, dx, r2, wfac, ir2)) {
+    support_add_surface<3>(m3, dx, -wfac);
+    support_add_fmfs<3>(m3, dx, -wfac, ir2);
+  }
+  support_to_fmfs<3>(m3, a3);
+  out[5] = support_surface<3>(m3, 0.75, n) + fmfs_pair_weight_radial<3>(wts, dx, ir2) + tp.same_kappa;
   surface_losses(3, 1.0, 300.0, 1.0, 300.0, 1.0, 300.0, qc, qr);
   int e = tool_surface(g, x, 1e-4, d, n, q);
   ContactIn ci = cin[0]; ContactOut co;
