@@ -292,51 +292,52 @@ template <class DeviceType>
 template <int DIM, int HALF, int NEWTON>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
-  auto f = atomKK->k_f.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
-  auto pk = d_pack;
-  auto mt = d_mat;
-  auto tpt = d_tpair;
+  const NeighViews nv = neigh_views();
   auto accv = k_acc.template view<DeviceType>();
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
   const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
   const int nlocal = atom->nlocal;
 
   Kokkos::parallel_for("sphcut:pair:neigh_pass",
       sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
-        const int i = ilist(ii);
-        const double mi = pk(i, PK_M);
+        const int i = nv.ilist(ii);
+        const double mi = nv.pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
-        const int itype = type(i);
+        const int itype = nv.type(i);
         double acc[sphcut::NACC];
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
         double xi[3], vi[3], mj;
-        gather_i(pk, i, any_as, xi, vi, in);
+        gather_i(nv.pk, i, any_as, xi, vi, in);
         const double Vi = mi / in.rho_i;
-        const int jnum = numneigh(i);
+        const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
-          const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) continue;
+          const int j = nv.neighbors(i, jj) & NEIGHMASK;
+          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, any_as, xi, vi, in, mj)) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
           if (HALF && (NEWTON || j < nlocal))
-            sphcut::pair_accumulate<DIM>(in, out, mi * mj, mi, Vi, -1.0, AtomicAdd<DeviceType>{accv, f, j});
+            sphcut::pair_accumulate<DIM>(in, out, mi * mj, mi, Vi, -1.0, AtomicAdd<DeviceType>{accv, nv.f, j});
         }
         if (HALF) {
-          AtomicAdd<DeviceType> to_i{accv, f, i};
+          AtomicAdd<DeviceType> to_i{accv, nv.f, i};
           for (int k = 0; k < sphcut::NACC; k++)
             if (acc[k] != 0.0) to_i(k, acc[k]);
         } else {
-          for (int a = 0; a < 3; a++) f(i, a) += acc[sphcut::ACC_F + a];
-          store_rates(mt(itype), DIM, corr, acc, st, i);
+          for (int a = 0; a < 3; a++) nv.f(i, a) += acc[sphcut::ACC_F + a];
+          store_rates(nv.mt(itype), DIM, corr, acc, nv.st, i);
         }
       });
+}
+
+// what the neighbour passes read and write
+template <class DeviceType>
+typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<DeviceType>::neigh_views()
+{
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  return {atomKK->k_f.view<DeviceType>(), atomKK->k_type.view<DeviceType>(),
+          fixkk->k_state.template view<DeviceType>(), d_pack, d_mat, d_tpair,
+          kl->d_neighbors, kl->d_numneigh, kl->d_ilist};
 }
 
 /* ----------------------------------------------------------------------
@@ -363,16 +364,7 @@ template <class DeviceType>
 template <int DIM>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
 {
-  auto f = atomKK->k_f.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
-  auto pk = d_pack;
-  auto mt = d_mat;
-  auto tpt = d_tpair;
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
+  const NeighViews nv = neigh_views();
   const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   const int lanes = on_host ? 1 : (DIM == 2 ? TEAM_LANES_2D : TEAM_LANES_3D);
@@ -384,29 +376,29 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
       KOKKOS_LAMBDA(const typename policy_t::member_type &team) {
         const int ii = team.league_rank() * team.team_size() + team.team_rank();
         if (ii >= inum) return;    // all lanes of this particle alike
-        const int i = ilist(ii);
-        const double mi = pk(i, PK_M);
+        const int i = nv.ilist(ii);
+        const double mi = nv.pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
-        const int itype = type(i);
+        const int itype = nv.type(i);
         sphcut::PairIn in_i;
         double xi[3], vi[3];
-        gather_i(pk, i, any_as, xi, vi, in_i);
+        gather_i(nv.pk, i, any_as, xi, vi, in_i);
         PairSums sums;
         Kokkos::parallel_reduce(
-            Kokkos::ThreadVectorRange(team, numneigh(i)),
+            Kokkos::ThreadVectorRange(team, nv.numneigh(i)),
             [&](const int jj, PairSums &s) {
-              const int j = neighbors(i, jj) & NEIGHMASK;
+              const int j = nv.neighbors(i, jj) & NEIGHMASK;
               sphcut::PairIn in = in_i;
               double mj;
-              if (!gather_j(pk, tpt(itype * ntp + type(j)), j, any_as, xi, vi, in, mj)) return;
+              if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, any_as, xi, vi, in, mj)) return;
               sphcut::PairOut out;
               sphcut::pair_terms<DIM>(kind, in, out);
               sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{s.v});
             },
             sums);
         Kokkos::single(Kokkos::PerThread(team), [&]() {
-          for (int a = 0; a < 3; a++) f(i, a) += sums.v[sphcut::ACC_F + a];
-          store_rates(mt(itype), DIM, corr, sums.v, st, i);
+          for (int a = 0; a < 3; a++) nv.f(i, a) += sums.v[sphcut::ACC_F + a];
+          store_rates(nv.mt(itype), DIM, corr, sums.v, nv.st, i);
         });
       });
 }

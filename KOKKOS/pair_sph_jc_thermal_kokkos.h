@@ -51,6 +51,16 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // particle, threads per team
   enum { TEAM_AUTO_MAX = 8192, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
   int use_team(int inum) const;
+  struct NeighViews {
+    typename AT::t_f_array f;
+    typename AT::t_int_1d_const type;
+    typename AT::t_double_2d st, pk;
+    t_mat mt;
+    t_tpair tpt;
+    typename AT::t_neighbors_2d neighbors;
+    typename AT::t_int_1d numneigh, ilist;
+  };
+  NeighViews neigh_views();
   void rates_pass(int nlocal);
 
  protected:
