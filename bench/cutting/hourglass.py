@@ -14,10 +14,13 @@ Per dump frame, for every SPH particle of the workpiece (role 0 and 2), with the
   C     = sum d_i . d_j / sum |d_i| |d_j| over the nearest-neighbour pairs (r < 1.2 dx) of the
           particles of a region: -1 for a perfect checkerboard, +1 for a smooth (curvature)
           residual, about 0 for noise or an odd-even mode along one lattice direction only.
+  share = 1 - sum eq(L of v - d) / sum eq(L of v) over a region: the part of the von Mises
+          equivalent strain rate (of the renormalised L) that goes with the residual d (what
+          the odd-even part of the field adds to the strain rate the particles see).
 Regions: the rake-face contact layer (contact_feature 1) and the layers 1, 2 and 4.5-6.5 spacings
 further (as decompose.py), and all workpiece particles that move (|v| > 1 % of vc).
 Prints per region the means over the frames after 10 % of the cut: eta / vc, sqrt(sum eta^2 /
-sum lin^2) (the unpredicted part against the predicted one), C; then eta / vc of the contact
+sum lin^2) (the unpredicted part against the predicted one), C, share; then eta / vc of the contact
 layer and of the moving material against the cut length (growth).
 Usage: hourglass.py RUN_DIR NY [VC_M_PER_MIN [HDX]]
        hourglass.py --table NY RUN ...   (one markdown row per run)"""
@@ -83,23 +86,33 @@ def analyse(f, dx, hdx, vc):
                         w, wf = cubic(r, h)
                         lst.append((j, rx, ry, r, w, -wf))    # grad_i W_ij = wf (x_i - x_j) = -wf (x_j - x_i)
         nbrs[i] = lst
-    L = {}
-    for i in idx:
-        a = [0.0] * 4
-        b = [0.0] * 4
-        for j, rx, ry, r, w, g in nbrs[i]:
-            vol = m / rho[j]
-            gx, gy = g * rx, g * ry
-            dvx, dvy = vx[j] - vx[i], vy[j] - vy[i]
-            a[0] += vol * dvx * gx; a[1] += vol * dvx * gy; a[2] += vol * dvy * gx; a[3] += vol * dvy * gy
-            b[0] += vol * rx * gx; b[1] += vol * rx * gy; b[2] += vol * ry * gx; b[3] += vol * ry * gy
-        det = b[0] * b[3] - b[1] * b[2]
-        if abs(det) < 1e-12 * max(1e-300, (abs(b[0]) + abs(b[3])) ** 2):
-            bi = [1.0, 0.0, 0.0, 1.0]
-        else:
-            bi = [b[3] / det, -b[1] / det, -b[2] / det, b[0] / det]
-        L[i] = [a[0] * bi[0] + a[1] * bi[2], a[0] * bi[1] + a[1] * bi[3],
-                a[2] * bi[0] + a[3] * bi[2], a[2] * bi[1] + a[3] * bi[3]]
+    def gradient(vx, vy):
+        L = {}
+        for i in idx:
+            a = [0.0] * 4
+            b = [0.0] * 4
+            for j, rx, ry, r, w, g in nbrs[i]:
+                vol = m / rho[j]
+                gx, gy = g * rx, g * ry
+                dvx, dvy = vx[j] - vx[i], vy[j] - vy[i]
+                a[0] += vol * dvx * gx; a[1] += vol * dvx * gy; a[2] += vol * dvy * gx; a[3] += vol * dvy * gy
+                b[0] += vol * rx * gx; b[1] += vol * rx * gy; b[2] += vol * ry * gx; b[3] += vol * ry * gy
+            det = b[0] * b[3] - b[1] * b[2]
+            if abs(det) < 1e-12 * max(1e-300, (abs(b[0]) + abs(b[3])) ** 2):
+                bi = [1.0, 0.0, 0.0, 1.0]
+            else:
+                bi = [b[3] / det, -b[1] / det, -b[2] / det, b[0] / det]
+            L[i] = [a[0] * bi[0] + a[1] * bi[2], a[0] * bi[1] + a[1] * bi[3],
+                    a[2] * bi[0] + a[3] * bi[2], a[2] * bi[1] + a[3] * bi[3]]
+        return L
+
+    def eq_rate(l):
+        """von Mises equivalent strain rate sqrt(2/3 D':D') of a 2d (plane strain) velocity gradient"""
+        dxx, dyy, dxy = l[0], l[3], 0.5 * (l[1] + l[2])
+        tr = (dxx + dyy) / 3.0
+        return math.sqrt(2.0 / 3.0 * ((dxx - tr) ** 2 + (dyy - tr) ** 2 + tr * tr + 2.0 * dxy * dxy))
+
+    L = gradient(vx, vy)
     res = {}
     for i in idx:
         se = sl = sw = 0.0
@@ -118,7 +131,14 @@ def analyse(f, dx, hdx, vc):
             pw += vw
         if sw == 0.0:
             continue
-        res[i] = (math.sqrt(se / sw), math.sqrt(sl / sw), (vx[i] - px / pw, vy[i] - py / pw))
+        res[i] = [math.sqrt(se / sw), math.sqrt(sl / sw), (vx[i] - px / pw, vy[i] - py / pw)]
+    # the strain rate with the residual removed: L of the velocities the neighbours predict
+    # (v - d), against L of the velocities themselves
+    vfx = {i: vx[i] - res[i][2][0] if i in res else vx[i] for i in range(len(vx))}
+    vfy = {i: vy[i] - res[i][2][1] if i in res else vy[i] for i in range(len(vy))}
+    Lf = gradient(vfx, vfy)
+    for i in res:
+        res[i] += [eq_rate(L[i]), eq_rate(Lf[i])]
     return res, nbrs
 
 
@@ -152,7 +172,8 @@ def region_stats(sel, res, nbrs, dx, vc):
                 dj = res[j][2]
                 num += di[0] * dj[0] + di[1] * dj[1]
                 den += math.hypot(*di) * math.hypot(*dj)
-    return eta, ratio, num / den if den > 0 else float("nan")
+    share = 1.0 - sum(res[i][4] for i in sel) / max(1e-300, sum(res[i][3] for i in sel))
+    return eta, ratio, num / den if den > 0 else float("nan"), share
 
 
 NAMES = ("contact", "1 further", "2 further", "4.5-6.5 further", "moving")
@@ -183,13 +204,13 @@ def run_stats(run, ny, vc_mpm=318.5, hdx=1.3, quiet=False):
             for n, v in st.items():
                 if v is not None:
                     acc[n].append(v)
-    mean = {n: [sum(v[k] for v in acc[n]) / len(acc[n]) for k in range(3)] for n in NAMES if acc[n]}
+    mean = {n: [sum(v[k] for v in acc[n]) / len(acc[n]) for k in range(4)] for n in NAMES if acc[n]}
     if not quiet:
         print(f"{run}: {len(series)} frames in the cut, {len(acc['moving'])} after 10 % of it (dx {dx:.3g} m, "
               f"h {hdx} dx, vc {vc:.3g} m/s)")
-        print(f"{'region':16s} {'eta/vc':>8s} {'eta/lin':>8s} {'C':>7s}")
-        for n, (e, r, c) in mean.items():
-            print(f"{n:16s} {e:8.4f} {r:8.3f} {c:7.3f}")
+        print(f"{'region':16s} {'eta/vc':>8s} {'eta/lin':>8s} {'C':>7s} {'share':>7s}")
+        for n, (e, r, c, sh) in mean.items():
+            print(f"{n:16s} {e:8.4f} {r:8.3f} {c:7.3f} {sh:7.3f}")
         print("against the cut length [mm]: eta/vc of the contact layer, of the moving material; C of the contact layer")
         for lc, st in series:
             c = st.get("contact")
@@ -200,18 +221,20 @@ def run_stats(run, ny, vc_mpm=318.5, hdx=1.3, quiet=False):
 
 
 def table(ny, runs):
-    print("| run | eta/vc contact layer (eta/lin, C) | 1 further | 2 further | moving material | eta/vc contact layer, first / last third of the cut |")
-    print("|---|---|---|---|---|---|")
+    print("| run | eta/vc contact layer (eta/lin, C) | 1 further | 2 further | moving material | eta/vc contact layer, first / last third of the cut "
+          "| strain-rate share of the residual: contact layer, 1 further |")
+    print("|---|---|---|---|---|---|---|")
     for run in runs:
         mean, series = run_stats(run, ny, quiet=True)
         cells = []
         for n in ("contact", "1 further", "2 further", "moving"):
-            e, r, c = mean.get(n, [float("nan")] * 3)
+            e, r, c, sh = mean.get(n, [float("nan")] * 4)
             cells.append(f"{e:.4f} ({r:.2f}, {c:+.2f})")
+        shares = f"{mean.get('contact', [0, 0, 0, float('nan')])[3]:.2f}, {mean.get('1 further', [0, 0, 0, float('nan')])[3]:.2f}"
         cs = [st["contact"][0] for lc, st in series if st.get("contact")]
         t = max(1, len(cs) // 3)
         grow = f"{sum(cs[:t]) / t:.4f} / {sum(cs[-t:]) / t:.4f}" if cs else "-"
-        print(f"| {os.path.basename(run.rstrip('/'))} | " + " | ".join(cells) + f" | {grow} |")
+        print(f"| {os.path.basename(run.rstrip('/'))} | " + " | ".join(cells) + f" | {grow} | {shares} |")
 
 
 if __name__ == "__main__":
