@@ -140,6 +140,7 @@ void PairSPHJCThermal::grow_scratch(int n)
 
 void PairSPHJCThermal::settings(int narg, char **arg)
 {
+  hourglass = 0.0;    // a repeated pair_style without the keyword switches it off
   int iarg = 0;
   while (iarg < narg) {
     const std::string kw = arg[iarg];

@@ -241,6 +241,9 @@ TEST(Hourglass, Restart)
   l.cmds({"read_restart hourglass.restart", "fix sph all sph/jc-thermal", "run 0"});
   auto *pair = static_cast<PairSPHJCThermal *>(l.lmp->force->pair);
   EXPECT_EQ(pair->hourglass_coefficient(), 0.25);
+  // a repeated pair_style without the keyword (LAMMPS keeps the instance) switches it off
+  l.cmd("pair_style sph/jc-thermal");
+  EXPECT_EQ(static_cast<PairSPHJCThermal *>(l.lmp->force->pair)->hourglass_coefficient(), 0.0);
 }
 
 // (one LAMMPS instance at a time: a second one loading the plugin replaces its styles)
