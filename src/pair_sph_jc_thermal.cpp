@@ -10,7 +10,9 @@
      du_i/dt   =  1/2 sum_j m_j (v_j - v_i) . M_ij . grad_i W_ij  (M: the bracket above;
                   makes kinetic + internal energy conserved by the discrete scheme)
      xsph_i    =  sum_j m_j / rho_ij (v_j - v_i) W_ij
-   then per particle ds_i/dt from the Jaumann rate.  The velocities are the
+   then per particle ds_i/dt from the Jaumann rate.  With the keyword
+   hourglass kappa, a second pass over the pairs adds the hourglass control
+   of sphcut::hourglass_pair (needs L_i of both particles of a pair).  The velocities are the
    predicted ones of fix sph/jc-thermal (column VEST), the stress and
    density its predictor (RHO_F, SF), so forces are computed once a step.
    Rigid tool particles (role TOOL) take no part in the mechanics.
@@ -44,6 +46,7 @@ using namespace LAMMPS_NS;
 using sphcut::Material;
 
 static constexpr int NREVERSE = sphcut::NACC_REVERSE;
+enum CommMode { COMM_ACC = 0, COMM_HG = 1 };
 
 // a particle's packed row: what its neighbours read of it (position, predicted velocity, density,
 // mass (0: not in the SPH solid, skipped), volume m/rho, sigma/rho^2, artificial stress and
@@ -56,14 +59,16 @@ static constexpr double UNSET = -1.0e300;
 
 PairSPHJCThermal::PairSPHJCThermal(LAMMPS *lmp) :
     Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), tpair(nullptr),
-    fix(nullptr), nmax(0), pack(nullptr), acc(nullptr)
+    fix(nullptr), nmax(0), pack(nullptr), acc(nullptr), lgrad(nullptr), hgacc(nullptr), comm_mode(COMM_ACC)
 {
   restartinfo = 1;
   single_enable = 0;
   one_coeff = 0;
   comm_reverse = NREVERSE;
+  comm_forward = 9;    // hourglass control: L of the ghosts
   kernel_kind = sphcut::KERNEL_CUBIC;
   correction = 1;
+  hourglass = 0.0;
 }
 
 PairSPHJCThermal::~PairSPHJCThermal()
@@ -85,6 +90,8 @@ void PairSPHJCThermal::free_scratch()
 {
   memory->destroy(pack);
   memory->destroy(acc);
+  memory->destroy(lgrad);
+  memory->destroy(hgacc);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -120,14 +127,20 @@ void PairSPHJCThermal::grow_scratch(int n)
   free_scratch();
   memory->create(pack, nmax, NPK, "pair:pack");
   memory->create(acc, nmax, sphcut::NACC, "pair:acc");
+  if (hourglass > 0.0) {
+    memory->create(lgrad, nmax, 9, "pair:lgrad");
+    memory->create(hgacc, nmax, 4, "pair:hgacc");
+  }
 }
 
 /* ----------------------------------------------------------------------
    pair_style sph/jc-thermal [kernel cubic|wendland|hyperbolic] [correction yes|no]
+                             [hourglass kappa]
 ------------------------------------------------------------------------- */
 
 void PairSPHJCThermal::settings(int narg, char **arg)
 {
+  hourglass = 0.0;    // a repeated pair_style without the keyword switches it off
   int iarg = 0;
   while (iarg < narg) {
     const std::string kw = arg[iarg];
@@ -142,6 +155,10 @@ void PairSPHJCThermal::settings(int narg, char **arg)
       if (val == "yes") correction = 1;
       else if (val == "no") correction = 0;
       else error->all(FLERR, "Pair sph/jc-thermal: correction must be yes or no, got {}", val);
+    } else if (kw == "hourglass") {
+      hourglass = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (hourglass < 0.0 || hourglass > 10.0)
+        error->all(FLERR, "Pair sph/jc-thermal: hourglass must be in [0,10], got {}", hourglass);
     } else {
       error->all(FLERR, "Pair sph/jc-thermal: unknown pair_style keyword {}", kw);
     }
@@ -311,6 +328,17 @@ void PairSPHJCThermal::init_style()
       fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
   if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
   fix->attach(this);
+  if (hourglass > 0.0 && kokkosable)
+    error->all(FLERR, "Pair sph/jc-thermal/kk: hourglass {} is not supported under /kk yet (use the CPU style)",
+               hourglass);
+  if (hourglass > 0.0 && !correction)
+    error->all(FLERR, "Pair sph/jc-thermal: hourglass {} needs correction yes (the linear-field prediction "
+               "uses the renormalised velocity gradient)", hourglass);
+  // scratch arrays of the hourglass control: allocated with the others
+  if (hourglass > 0.0 && !lgrad) {
+    nmax = 0;
+    free_scratch();
+  }
   // the scheme applies no unit conversion factors: only self-consistent unit styles
   const std::string units = update->unit_style;
   if (units != "si" && units != "cgs" && units != "micro" && units != "nano" && units != "lj")
@@ -434,6 +462,9 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
     for (int a = 0; a < 3; a++) f[i][a] += acc[i][sphcut::ACC_F + a];
   if (newton_pair) sphcut::reverse_comm(comm, this);
 
+  // hourglass control: a second pass over the pairs with L of both particles
+  if (hourglass > 0.0) hourglass_forces();
+
   // per particle: density rate, velocity gradient, Jaumann stress rate
   for (int i = 0; i < nlocal; i++) {
     if (pack[i][PK_M] == 0.0) continue;
@@ -443,6 +474,7 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
     s[F::DRHO] += drho;
     for (int k = 0; k < 6; k++) s[F::DS + k] += ds[k];
     s[F::DU] += du;
+    if (hourglass > 0.0) s[F::DU] += hgacc[i][3];
     for (int a = 0; a < 3; a++) s[F::XSPH + a] = acc[i][sphcut::ACC_XS + a];
   }
 
@@ -535,11 +567,102 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
   }
 }
 
+/* ----------------------------------------------------------------------
+   hourglass control (keyword hourglass, sphcut::hourglass_pair): L of the
+   local particles from their summed rows, L of the ghosts by forward
+   communication, then the pairs again: force into atom->f (ghosts' through
+   LAMMPS' reverse communication of f), du into hgacc (ghosts' by reverse
+   communication), added to the rate of u with the others
+------------------------------------------------------------------------- */
+
+void PairSPHJCThermal::hourglass_forces()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const int newton_pair = force->newton_pair;
+  const int dim = domain->dimension;
+  for (int i = 0; i < nlocal; i++) {
+    if (pack[i][PK_M] == 0.0) {
+      for (int k = 0; k < 9; k++) lgrad[i][k] = 0.0;
+      continue;
+    }
+    sphcut::particle_velocity_gradient(dim, correction, acc[i], lgrad[i]);
+  }
+  comm_mode = COMM_HG;
+  sphcut::forward_comm(comm, this);
+  const int nacc = newton_pair ? nall : nlocal;
+  for (int i = 0; i < nacc; i++)
+    for (int k = 0; k < 4; k++) hgacc[i][k] = 0.0;
+  if (dim == 2) {
+    if (newton_pair) hourglass_loop<2, 1>();
+    else hourglass_loop<2, 0>();
+  } else {
+    if (newton_pair) hourglass_loop<3, 1>();
+    else hourglass_loop<3, 0>();
+  }
+  double **f = atom->f;
+  for (int i = 0; i < nacc; i++)
+    for (int a = 0; a < 3; a++) f[i][a] += hgacc[i][a];
+  if (newton_pair) sphcut::reverse_comm(comm, this);
+  comm_mode = COMM_ACC;
+}
+
+template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
+{
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const double *const *pk = pack;
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double *pi = pk[i];
+    const double mi = pi[PK_M];
+    if (mi == 0.0) continue;
+    const sphcut::TypePair *tpi = tpair[type[i]];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    sphcut::PairIn in;
+    in.rho_i = pi[PK_RHO];
+    double hi[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double *pj = pk[j];
+      const sphcut::TypePair &tp = tpi[type[j]];
+      for (int a = 0; a < 3; a++) in.dx[a] = pi[PK_X + a] - pj[PK_X + a];
+      in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+      if (in.r2 >= tp.cutsq || in.r2 == 0.0 || pj[PK_M] == 0.0) continue;
+      for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - pi[PK_V + a];
+      sphcut::set_type_pair(tp, in);
+      in.rho_j = pj[PK_RHO];
+      double w, wfac;
+      sphcut::kernel_w_gradfac_pre(kernel_kind, sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
+      double Mg[3], work;
+      sphcut::hourglass_pair<DIM>(hourglass, in, wfac, lgrad[i], lgrad[j], Mg, work);
+      const double mj = pj[PK_M], mm = mi * mj;
+      for (int a = 0; a < DIM; a++) hi[a] += mm * Mg[a];
+      hi[3] += mj * 0.5 * work;
+      if (NEWTON || j < nlocal) {
+        for (int a = 0; a < DIM; a++) hgacc[j][a] -= mm * Mg[a];
+        hgacc[j][3] += mi * 0.5 * work;
+      }
+    }
+    for (int k = 0; k < 4; k++) hgacc[i][k] += hi[k];
+  }
+}
+
 /* ---------------------------------------------------------------------- */
 
 int PairSPHJCThermal::pack_reverse_comm(int n, int first, double *buf)
 {
   int m = 0;
+  if (comm_mode == COMM_HG) {
+    for (int i = first; i < first + n; i++) buf[m++] = hgacc[i][3];
+    return m;
+  }
   for (int i = first; i < first + n; i++)
     for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) buf[m++] = acc[i][k];
   return m;
@@ -548,10 +671,30 @@ int PairSPHJCThermal::pack_reverse_comm(int n, int first, double *buf)
 void PairSPHJCThermal::unpack_reverse_comm(int n, int *list, double *buf)
 {
   int m = 0;
+  if (comm_mode == COMM_HG) {
+    for (int ii = 0; ii < n; ii++) hgacc[list[ii]][3] += buf[m++];
+    return;
+  }
   for (int ii = 0; ii < n; ii++) {
     const int i = list[ii];
     for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) acc[i][k] += buf[m++];
   }
+}
+
+// forward communication: only the hourglass control's L (COMM_HG)
+int PairSPHJCThermal::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/, int * /*pbc*/)
+{
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int k = 0; k < 9; k++) buf[m++] = lgrad[list[ii]][k];
+  return m;
+}
+
+void PairSPHJCThermal::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = 0; k < 9; k++) lgrad[i][k] = buf[m++];
 }
 
 /* ---------------------------------------------------------------------- */
@@ -596,10 +739,13 @@ void PairSPHJCThermal::read_restart(FILE *fp)
 
 void PairSPHJCThermal::write_restart_settings(FILE *fp)
 {
-  const int matsize = sizeof(Material);
+  // a negative record size marks the settings with the hourglass coefficient (files written
+  // before it have the positive size and no coefficient: read as hourglass 0)
+  const int matsize = -(int) sizeof(Material);
   fwrite(&matsize, sizeof(int), 1, fp);
   fwrite(&kernel_kind, sizeof(int), 1, fp);
   fwrite(&correction, sizeof(int), 1, fp);
+  fwrite(&hourglass, sizeof(double), 1, fp);
 }
 
 void PairSPHJCThermal::read_restart_settings(FILE *fp)
@@ -609,6 +755,11 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
     utils::sfread(FLERR, &matsize, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &kernel_kind, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &correction, sizeof(int), 1, fp, nullptr, error);
+    hourglass = 0.0;
+    if (matsize < 0) {
+      utils::sfread(FLERR, &hourglass, sizeof(double), 1, fp, nullptr, error);
+      matsize = -matsize;
+    }
   }
   MPI_Bcast(&matsize, 1, MPI_INT, 0, world);
   if (matsize != (int) sizeof(Material))
@@ -616,9 +767,10 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
                "(material record {} bytes, this version {})", matsize, (int) sizeof(Material));
   MPI_Bcast(&kernel_kind, 1, MPI_INT, 0, world);
   MPI_Bcast(&correction, 1, MPI_INT, 0, world);
+  MPI_Bcast(&hourglass, 1, MPI_DOUBLE, 0, world);
 }
 
 double PairSPHJCThermal::memory_usage()
 {
-  return (double) nmax * (NPK + sphcut::NACC) * sizeof(double);
+  return (double) nmax * (NPK + sphcut::NACC + (hourglass > 0.0 ? 13 : 0)) * sizeof(double);
 }

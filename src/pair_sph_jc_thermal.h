@@ -37,6 +37,8 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   void read_restart_settings(FILE *) override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
   double memory_usage() override;
 
   // interface for fix sph/jc-thermal and the other sphcut styles
@@ -45,6 +47,7 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   double smoothing_length(int itype, int jtype) const { return hlen[itype][jtype]; }
   const sphcut::TypePair &type_pair(int itype, int jtype) const { return tpair[itype][jtype]; }
   int renormalised() const { return correction; }
+  double hourglass_coefficient() const { return hourglass; }
   int kernel() const { return kernel_kind; }
   double spacing(int itype) const { return dp[itype]; }    // (m/rho0)^(1/d), set in init_style
   FixSPHJCThermal *state_fix() const { return fix; }
@@ -53,6 +56,7 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
  protected:
   int kernel_kind;
   int correction;                 // 1: renormalised velocity gradient (exact for linear fields)
+  double hourglass;               // hourglass control coefficient kappa (0: off; sphcut::hourglass_pair)
   sphcut::Material *mat;          // per type, 1..ntypes
   double **hlen;                  // smoothing length per type pair
   double **hdx;                   // h given as a multiple of the particle spacing (0: not used)
@@ -64,11 +68,16 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   int nmax;                       // scratch arrays, local + ghost
   double **pack;                  // per particle: what its neighbours read (packed row, see the .cpp)
   double **acc;                   // neighbour sums (sphcut::PairAcc layout; ACC_F is added to atom->f)
+  double **lgrad;                 // hourglass control: velocity gradient L per particle (row major, 9)
+  double **hgacc;                 // hourglass control: force (3) and du (1) per particle
+  int comm_mode;                  // what pack/unpack_*_comm move: COMM_ACC (the sums), COMM_HG (L / du)
   std::vector<int> nbr_j;         // the pairs of one particle within the cutoff, and their scalars
   std::vector<sphcut::PairScalars> nbr_s;
 
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);
+  template <int DIM, int NEWTON> void hourglass_loop();
+  void hourglass_forces();
   void grow_scratch(int);
   void free_scratch();
 };

@@ -191,12 +191,11 @@ SPHCUT_PAIR_INLINE void pair_accumulate(const PairIn &in, const PairOut &out, do
 
 /* ---- per particle, after the neighbour sums: the rates -----------------
    L = (sum V_j dv (x) grad W) B^-1 (renormalised, exact for linear velocity
-   fields) or the plain sum; then the Jaumann rate of the force-state stress
-   sf.  Results: drho = -rho_f sum V_j dv.gradW, ds (Voigt), du.          */
-SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, const double *acc,
-                                  const double *sf, double rho_f, double &drho, double *ds, double &du)
+   fields) or the plain sum (particle_velocity_gradient, row major, 2d: z row
+   and column 0); then the Jaumann rate of the force-state stress sf.
+   Results: drho = -rho_f sum V_j dv.gradW, ds (Voigt), du.               */
+SPHCUT_INLINE void particle_velocity_gradient(int dim, int correction, const double *acc, double *L)
 {
-  double L[9];
   if (correction) {
     double b[9], binv[9];
     for (int a = 0; a < 3; a++)
@@ -211,9 +210,64 @@ SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, c
     for (int k = 0; k < 9; k++) L[k] = acc[ACC_L + k];
   }
   if (dim == 2) L[2] = L[5] = L[6] = L[7] = L[8] = 0.0;
+}
+
+SPHCUT_INLINE void particle_rates(const Material &mt, int dim, int correction, const double *acc,
+                                  const double *sf, double rho_f, double &drho, double *ds, double &du)
+{
+  double L[9];
+  particle_velocity_gradient(dim, correction, acc, L);
   jaumann_rate(mt, L, sf, ds);
   drho = -rho_f * acc[ACC_DRHO];
   du = acc[ACC_DU];
+}
+
+/* ---- hourglass control (pair_style keyword hourglass, default off) -----
+   The part of a pair's velocity difference that the velocity gradients of
+   its two particles do not predict,
+     e_ij = (v_j - v_i) - 1/2 (L_i + L_j) (x_j - x_i),
+   is zero for a linear velocity field (L exact: correction yes) and O(1)
+   for the odd-even (zero-energy) modes that L does not see.  Its component
+   along the pair is damped like the artificial viscosity damps v_ij:
+     Pi^hg_ij = kappa cbar h (e_ij . x_ij) / ((r_ij^2 + 0.01 h^2) rho_ij),
+   entering the bracket M_ij as -Pi^hg I (for either sign of e.x; Pi of the
+   artificial viscosity acts on approaching pairs only).  The pair force is
+   central and antisymmetric (linear and angular momentum conserved); its
+   work goes into u like that of the bracket (du_i += 1/2 m_j dv.Mg), so
+   kinetic + internal energy is conserved.  An updated-Lagrangian, velocity
+   form of the hourglass control of Ganzenmueller (Comput. Methods Appl.
+   Mech. Engrg. 286 (2015) 87-106), which works on the positions of total-
+   Lagrangian SPH.  Needs L of both particles: a second pass over the pairs
+   after the first has been summed.                                         */
+template <int DIM>
+SPHCUT_PAIR_INLINE double hourglass_error_dx(const double *dx, const double *dv, const double *L_i,
+                                             const double *L_j)
+{
+  // x_j - x_i = -dx: e = dv + 1/2 (L_i + L_j) dx
+  double edx = 0.0;
+  for (int a = 0; a < DIM; a++) {
+    double e = dv[a];
+    for (int b = 0; b < DIM; b++) e += 0.5 * (L_i[3 * a + b] + L_j[3 * a + b]) * dx[b];
+    edx += e * dx[a];
+  }
+  return edx;
+}
+
+/* the hourglass term of pair i-j: Mg (force on i = m_i m_j Mg) and its work
+   dv.Mg; wfac from pair_scalars (grad_i W = wfac dx), rho_bar = (rho_i +
+   rho_j)/2                                                                 */
+template <int DIM>
+SPHCUT_PAIR_INLINE void hourglass_pair(double kappa, const PairIn &in, double wfac, const double *L_i,
+                                       const double *L_j, double *Mg, double &work)
+{
+  const double edx = hourglass_error_dx<DIM>(in.dx, in.dv, L_i, L_j);
+  const double rho_bar = 0.5 * (in.rho_i + in.rho_j);
+  const double pi = kappa * in.cbar * in.h * edx / ((in.r2 + 0.01 * in.h * in.h) * rho_bar);
+  work = 0.0;
+  for (int a = 0; a < 3; a++) {
+    Mg[a] = a < DIM ? -pi * wfac * in.dx[a] : 0.0;
+    if (a < DIM) work += in.dv[a] * Mg[a];
+  }
 }
 
 // true when no principal value of a symmetric tensor (Voigt) is positive: -s is positive
