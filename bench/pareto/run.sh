@@ -18,8 +18,8 @@
 # reference, note, source) and, with matplotlib, pareto.png (error against wall time, the
 # measured rows of results.csv with the RECORDED, not rerun rows of recorded.csv: the finer
 # cuts, the GPU runs), into $OUT (default bench/pareto/results, committed).
-# Time on the shared 2-core development VM: plate 5 min, conduction 1 min, taylor 4 min,
-# cut 6-10 min (2 ranks): about 20 minutes for all.
+# Time on the shared 2-core development VM: plate 5 min, conduction 1 min, taylor 5 min,
+# cut 20 min (2 ranks; CUT_LEN=0.3e-3: 1-4 min): about 35 minutes for all (load 4-5).
 # Usage: bash bench/pareto/run.sh [plate|conduction|taylor|cut|all] [--plot-only]
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
