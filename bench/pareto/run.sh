@@ -1,16 +1,26 @@
 #!/usr/bin/env bash
-# bench/pareto: run time against error for the cheapest references (issue 14), one command:
+# bench/pareto: run time against error (issue 14), one command:
 #   plate       examples/oscillating-plate: period of the 2D cantilever plate against beam
 #               theory (1 period), ny particles across = 7 11 15 21, cubic kernel (the
 #               example's settings) and Wendland C2 at 11 and 21 across;
 #   conduction  examples/thermal/in.conduction: sine decay on the unit square against the
 #               analytic solution, n x n = 11 21 41 81, FMFS (conservative, the default) and
-#               Brookshaw.
-# Every case runs on 1 core (1 MPI rank, OMP_NUM_THREADS=1), one after the other.  Writes
-# results.csv (case, option, resolution, particles, steps, loop wall s, error %) and, with
-# matplotlib, pareto.png (error against wall time), into $OUT (default bench/pareto/results, committed).
-# About 10 minutes on one core of the 2-core development machine.
-# Usage: bash bench/pareto/run.sh [plate|conduction|all] [--plot-only]
+#               Brookshaw;
+#   taylor      examples/taylor-bar/in.taylor: final length of the copper Taylor bar after
+#               80 us against the reference 21.47 mm, dx = 0.81 0.6 0.5 0.4 mm;
+#   cut         examples/cutting-2d-ti6al4v: the 2D Ti6Al4V cut at 11 across over 2 mm of
+#               cut (CUT_LEN=0.3e-3 for the quick case), steady Fc and Ft against the
+#               experiment (157.5, 104.2 N/mm) and against the finest run of the same contact
+#               model (21 across on one H100, 174.3 / 51.5 N/mm, recorded.csv).
+# plate, conduction and taylor run on 1 core (1 MPI rank, OMP_NUM_THREADS=1), the cut on
+# 2 MPI ranks (CUT_NP, as the example), one case after the other.  Writes results.csv
+# (case, option, resolution, particles, steps, loop wall s, error %, platform, value,
+# reference, note, source) and, with matplotlib, pareto.png (error against wall time, the
+# measured rows of results.csv with the RECORDED, not rerun rows of recorded.csv: the finer
+# cuts, the GPU runs), into $OUT (default bench/pareto/results, committed).
+# Time on the shared 2-core development VM: plate 5 min, conduction 1 min, taylor 5 min,
+# cut 20 min (2 ranks; CUT_LEN=0.3e-3: 1-4 min): about 35 minutes for all (load 4-5).
+# Usage: bash bench/pareto/run.sh [plate|conduction|taylor|cut|all] [--plot-only]
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
@@ -25,7 +35,7 @@ csv="$out/results.csv"
 plot() {
   # matplotlib: Debian's python3 (tools/build-deps.sh installs python3-matplotlib)
   if /usr/bin/python3 -c "import matplotlib" 2> /dev/null; then
-    /usr/bin/python3 "$here/plot.py" "$csv" "$out/pareto.png"
+    /usr/bin/python3 "$here/plot.py" "$csv" "$here/recorded.csv" "$out/pareto.png"
   else
     echo "no matplotlib for /usr/bin/python3: table only"
     column -s, -t "$csv"
@@ -34,7 +44,11 @@ plot() {
 [ "${2:-}" = "--plot-only" ] && { plot; exit 0; }
 
 loop_time() { grep "^Loop time" "$1" | tail -1 | awk '{print $4, $9, $12}'; }    # wall steps atoms
-[ -f "$csv" ] || echo "case,option,resolution,particles,steps,wall_s,error_pct" > "$csv"
+# the run with the most steps (an input with several run commands)
+loop_time_max() { awk '/^Loop time/ && $9 + 0 >= m {m = $9 + 0; l = $4 " " $9 " " $12} END {print l}' "$1"; }
+header="case,option,resolution,particles,steps,wall_s,error_pct,platform,value,reference,note,source"
+[ -f "$csv" ] && [ "$(head -1 "$csv")" = "$header" ] || echo "$header" > "$csv"
+today="run.sh $(date -u +%F)"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
@@ -50,7 +64,7 @@ if [ "$what" = plate ] || [ "$what" = all ]; then
       $LMP -in in.plate -var ny "$ny" -var periods 1 -log log.plate > /dev/null
       read -r wall steps atoms < <(loop_time log.plate)
       err=$(python3 "$root/examples/oscillating-plate/period.py" | awk '/SPH period/{gsub(/[()%+]/,"",$5); print $5}')
-      echo "plate,$opt,$ny,$atoms,$steps,$wall,$err" | tee -a "$csv"
+      echo "plate,$opt,$ny,$atoms,$steps,$wall,$err,1 core,,beam theory,,$today" | tee -a "$csv"
     done
   done
 fi
@@ -65,8 +79,53 @@ if [ "$what" = conduction ] || [ "$what" = all ]; then
       read -r wall steps atoms < <(loop_time log.cond)
       # max error relative to the amplitude, in %
       err=$(grep "^CONDUCTION" log.cond | tail -1 | awk '{print 100 * $16}')
-      echo "conduction,$scheme,$n,$atoms,$steps,$wall,$err" | tee -a "$csv"
+      echo "conduction,$scheme,$n,$atoms,$steps,$wall,$err,1 core,,analytic,max over the particles,$today" | tee -a "$csv"
     done
   done
+fi
+
+if [ "$what" = taylor ] || [ "$what" = all ]; then
+  sed -i '/^taylor,/d' "$csv"
+  lref=21.47    # mm: Kamoulakos (1990) and the verification suites, 21.4-21.5 mm
+  for dx in ${TAYLOR_DX:-0.81e-3 0.6e-3 0.5e-3 0.4e-3}; do
+    d="$work/taylor-$dx"
+    mkdir -p "$d" && cd "$d"
+    $LMP -in "$root/examples/taylor-bar/in.taylor" -var dx "$dx" -log log.taylor > /dev/null
+    read -r wall steps atoms < <(loop_time_max log.taylor)
+    len=$(awk '/^TAYLOR final length/{print $4}' log.taylor)
+    err=$(awk -v l="$len" -v r="$lref" 'BEGIN{printf "%.2f", 100 * (l / r - 1)}')
+    res=$(awk -v d="$dx" 'BEGIN{printf "%g mm", d * 1000}')
+    echo "taylor,cubic,$res,$atoms,$steps,$wall,$err,1 core,$len,$lref mm,,$today" | tee -a "$csv"
+  done
+fi
+
+if [ "$what" = cut ] || [ "$what" = all ]; then
+  sed -i '/^cut,/d' "$csv"
+  ny=${CUT_NY:-11}; len=${CUT_LEN:-2e-3}; np=${CUT_NP:-2}
+  d="$work/cut-$ny"
+  mkdir -p "$d" && cd "$d"
+  mpirun -np "$np" $LMP -in "$root/examples/cutting-2d-ti6al4v/in.cutting" -var ny "$ny" -var cut "$len" \
+    -var dumpevery 0 -var thermoevery 4000 -log log.cutting > /dev/null
+  read -r wall steps atoms < <(loop_time_max log.cutting)
+  res=$ny
+  [ "$len" = 2e-3 ] || res="$ny ($(awk -v c="$len" 'BEGIN{printf "%g", c * 1000}') mm)"
+  # steady forces (mean after 10 % of the cut), against the experiment and against the finest
+  # run of the same contact model (recorded.csv: 21 across, 2 mm, one H100)
+  PYTHONPATH="$root/examples/cutting-2d-ti6al4v" python3 - "$res" "$atoms" "$steps" "$wall" "$np ranks (this VM)" "$today" <<'PY' | tee -a "$csv"
+import sys
+from steady import read_rows
+res, atoms, steps, wall, platform, src = sys.argv[1:]
+rows = read_rows("forces.dat")
+lmax = max(r[1] for r in rows)
+sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+fc = sum(r[2] for r in sel) / len(sel)
+ft = sum(r[3] for r in sel) / len(sel)
+note = f"mean over {0.1 * lmax:.2f}-{lmax:.2f} mm"
+for name, val, ref, label in (("Fc vs experiment", fc, 157.5, "experiment 157.5"),
+                              ("Ft vs experiment", ft, 104.2, "experiment 104.2"),
+                              ("Fc vs finest", fc, 174.3, "21 across H100 174.3"),
+                              ("Ft vs finest", ft, 51.5, "21 across H100 51.5")):
+    print(f"cut,{name},{res},{atoms},{steps},{wall},{100 * (val / ref - 1):.1f},{platform},{val:.1f},{label},{note},{src}")
+PY
 fi
 plot
