@@ -89,42 +89,33 @@ template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<D
   auto *fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   fixkk->k_state.template sync<DeviceType>();
   k_out.template sync<DeviceType>();
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
-  auto x = atomKK->k_x.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
   auto o = k_out.template view<DeviceType>();
   auto tp = d_tp;
   const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, hides = tool_hides;
   const int tb = fix->toolbit, cb = fix->clampbit, use_rmass = atom->rmass_flag;
   const double thr = threshold;
   using F = FixSPHJCThermal;
-  if (kl->inum != atom->nlocal) Kokkos::deep_copy(o, 0.0);
+  if (list->inum != atom->nlocal) Kokkos::deep_copy(o, 0.0);
 
   Kokkos::parallel_for("sphcut:surface:kernel",
-      sphcut::range<DeviceType>(0, kl->inum), KOKKOS_LAMBDA(const int ii) {
-        const int i = ilist(ii);
+      sphcut::range<DeviceType>(0, list->inum), KOKKOS_LAMBDA(const int ii) {
+        const int i = av.ilist(ii);
         for (int k = 0; k < NCOLS; k++) o(i, k) = 0.0;
-        if (!(mask(i) & gb)) return;
-        const int itool = sphcut::role_from_mask(mask(i), tb, cb) == F::TOOL;
-        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-        const int itn = type(i) * nt;
+        if (!(av.mask(i) & gb)) return;
+        const int itool = sphcut::role_from_mask(av.mask(i), tb, cb) == F::TOOL;
+        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
+        const int itn = av.type(i) * nt;
         sphcut::SupportMoments<DIM> m;
         sphcut::support_zero<DIM>(m, false);
-        for (int jj = 0; jj < numneigh(i); jj++) {
-          const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!(mask(j) & gb)) continue;
-          if (!hides && (sphcut::role_from_mask(mask(j), tb, cb) == F::TOOL) != itool) continue;
-          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+        for (int jj = 0; jj < av.numneigh(i); jj++) {
+          const int j = av.neighbors(i, jj) & NEIGHMASK;
+          if (!(av.mask(j) & gb)) continue;
+          if (!hides && (sphcut::role_from_mask(av.mask(j), tb, cb) == F::TOOL) != itool) continue;
+          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
           double r[3], r2, wfac, ir2;    // r = x_j - x_i
-          if (!sphcut::thermal_support(tp(itn + type(j)), kern, xj, xi, r, r2, wfac, ir2)) continue;
-          const double vj = (use_rmass ? rmass(j) : mass(type(j))) / st(j, F::RHO_F);
+          if (!sphcut::thermal_support(tp(itn + av.type(j)), kern, xj, xi, r, r2, wfac, ir2)) continue;
+          const double vj = (use_rmass ? av.rmass(j) : av.mass(av.type(j))) / av.st(j, F::RHO_F);
           sphcut::support_add_surface<DIM>(m, r, -wfac * vj);
         }
         double n[3];

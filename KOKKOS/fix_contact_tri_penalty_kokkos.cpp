@@ -496,16 +496,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
   k_qtw.template sync<DeviceType>();
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
-  auto x = atomKK->k_x.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
   auto qtw = k_qtw.template view<DeviceType>();
   auto mat = d_mat;
   auto hij = d_hij;
@@ -514,25 +505,25 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   const double acc = update->setupflag ? 0.0 : update->dt;
   auto qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
   Kokkos::parallel_for("sphcut:contact:tool_heat_gather",
-      sphcut::range<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int jj_) {
-        const int j = ilist(jj_);
-        if (!(mask(j) & tb)) return;
+        const int j = av.ilist(jj_);
+        if (!(av.mask(j) & tb)) return;
         double p = 0.0;
-        for (int ii = 0; ii < numneigh(j); ii++) {
-          const int i = neighbors(j, ii) & NEIGHMASK;
+        for (int ii = 0; ii < av.numneigh(j); ii++) {
+          const int i = av.neighbors(j, ii) & NEIGHMASK;
           if (!(qtw(i, 0) > 0.0)) continue;
           double r2 = 0.0;
-          for (int k = 0; k < 3; k++) r2 += (x(i, k) - x(j, k)) * (x(i, k) - x(j, k));
-          const double hh = hij(type(i) * ntp + type(j));
+          for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - av.x(j, k)) * (av.x(i, k) - av.x(j, k));
+          const double hh = hij(av.type(i) * ntp + av.type(j));
           if (r2 >= 4.0 * hh * hh) continue;
           p += qtw(i, 0) * sphcut::kernel_w(kern, dim, sqrt(r2), hh);
         }
-        if (!(p > 0.0) || !(mask(j) & hb)) return;
-        const double cp = mat(type(j)).cp;
+        if (!(p > 0.0) || !(av.mask(j) & hb)) return;
+        const double cp = mat(av.type(j)).cp;
         if (cp <= 0.0) return;
-        const double m = use_rmass ? rmass(j) : mass(type(j));
-        st(j, FixSPHJCThermal::DTEMP) += p / (m * cp);
+        const double m = use_rmass ? av.rmass(j) : av.mass(av.type(j));
+        av.st(j, FixSPHJCThermal::DTEMP) += p / (m * cp);
         if (acc > 0.0) Kokkos::atomic_add(&qsrc(), p * acc);
       });
   fixkk->k_state.template modify<DeviceType>();

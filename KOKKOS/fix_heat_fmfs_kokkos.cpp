@@ -221,16 +221,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
 template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_kk()
 {
   using F = FixSPHJCThermal;
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
-  auto x = atomKK->k_x.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
   typename AT::t_double_2d surf;
   if (surfkk) surf = surfkk->k_out.template view<DeviceType>();
   auto mat = d_mat;
@@ -242,35 +233,35 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
 
   Kokkos::parallel_for("sphcut:heat:zero_held_pp",
-      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce("sphcut:heat:per_particle",
-      sphcut::range<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
-        const int i = ilist(ii);
-        if (!(mask(i) & gb)) return;
-        const int itype = type(i);
+        const int i = av.ilist(ii);
+        if (!(av.mask(i) & gb)) return;
+        const int itype = av.type(i);
         const sphcut::Material &mi = mat(itype);
         if (mi.cp <= 0.0) return;
-        const double Ti = st(i, F::TEMP_F), rhoi = st(i, F::RHO_F);
-        const double massi = use_rmass ? rmass(i) : mass(itype);
+        const double Ti = av.st(i, F::TEMP_F), rhoi = av.st(i, F::RHO_F);
+        const double massi = use_rmass ? av.rmass(i) : av.mass(itype);
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
         int use_fmfs = fmfs && !is_surf && mi.kappa > 0.0;
         double brook = 0.0;
         sphcut::FmfsAccum<DIM> acc;
         if (use_fmfs) sphcut::fmfs_zero<DIM>(acc);
-        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-        for (int jj = 0; jj < numneigh(i); jj++) {
-          const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!(mask(j) & gb)) continue;
-          const int jtype = type(j);
+        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
+        for (int jj = 0; jj < av.numneigh(i); jj++) {
+          const int j = av.neighbors(i, jj) & NEIGHMASK;
+          if (!(av.mask(j) & gb)) continue;
+          const int jtype = av.type(j);
           const double h = hij(itype * nt + jtype);
-          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
           double dx[3], r2;
           if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
           double w, wfac;
           sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
-          const double Tj = st(j, F::TEMP_F);
-          const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
+          const double Tj = av.st(j, F::TEMP_F);
+          const double vj = (use_rmass ? av.rmass(j) : av.mass(jtype)) / av.st(j, F::RHO_F);
           const double kj = mat(jtype).kappa;
           brook += vj * sphcut::brookshaw_pair_radial(Ti, Tj, mi.kappa, kj, wfac);
           if (use_fmfs) {
@@ -301,7 +292,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
           p_rad += qr;
           dT -= (qc + qr) / (massi * mi.cp);
         }
-        st(i, F::HELD) = dT;
+        av.st(i, F::HELD) = dT;
       },
       pc, pr, nf, nb, nfb);
   fixkk->k_state.template modify<DeviceType>();
@@ -321,16 +312,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   using CS = ComputeSurfaceLambda;
   if ((int) k_fwts.extent(0) < atom->nmax) k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NW);
   k_fwts.template sync<DeviceType>();
-  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-  auto neighbors = kl->d_neighbors;
-  auto numneigh = kl->d_numneigh;
-  auto ilist = kl->d_ilist;
-  auto x = atomKK->k_x.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
   auto fw = k_fwts.template view<DeviceType>();
   typename AT::t_double_2d surf;
   if (surfkk) {
@@ -356,11 +338,11 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
           for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
         });
   Kokkos::parallel_reduce("sphcut:heat:weights",
-      sphcut::range<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
-        const int i = ilist(ii);
-        if (!(mask(i) & gb)) return;
-        const int itype = type(i);
+        const int i = av.ilist(ii);
+        if (!(av.mask(i) & gb)) return;
+        const int itype = av.type(i);
         const sphcut::Material &mi = mat(itype);
         const int conducts = mi.cp > 0.0;
         const int was_surf = !fuse && has_surf && surf(i, CS::FLAG) > 0.5;
@@ -370,18 +352,18 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
           return;
         }
         const int itn = itype * nt;
-        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
         sphcut::SupportMoments<DIM> m;
         sphcut::support_zero<DIM>(m, cand);
-        for (int jj = 0; jj < numneigh(i); jj++) {
-          const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!(mask(j) & gb)) continue;
-          const sphcut::ThermalPair &tij = tp(itn + type(j));
-          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+        for (int jj = 0; jj < av.numneigh(i); jj++) {
+          const int j = av.neighbors(i, jj) & NEIGHMASK;
+          if (!(av.mask(j) & gb)) continue;
+          const sphcut::ThermalPair &tij = tp(itn + av.type(j));
+          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
           double dx[3], r2, wfac, ir2;
           if (!sphcut::thermal_support(tij, kern, xi, xj, dx, r2, wfac, ir2)) continue;
           const double r[3] = {-dx[0], -dx[1], -dx[2]};    // x_j - x_i
-          const double s = -wfac * ((use_rmass ? rmass(j) : mass(type(j))) / st(j, F::RHO_F));
+          const double s = -wfac * ((use_rmass ? av.rmass(j) : av.mass(av.type(j))) / av.st(j, F::RHO_F));
           sphcut::support_add_surface<DIM>(m, r, s);
           if (cand) {
             if (tij.same_kappa) sphcut::support_add_fmfs<DIM>(m, r, s, ir2);
@@ -428,35 +410,35 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   // 2. the pairwise exchange with the mean weight, and the surface losses
   double pc = 0.0, pr = 0.0;
   Kokkos::parallel_for("sphcut:heat:zero_held",
-      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { st(i, F::HELD) = 0.0; });
+      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce("sphcut:heat:exchange",
-      sphcut::range<DeviceType>(0, kl->inum),
+      sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
-        const int i = ilist(ii);
-        if (!(mask(i) & gb)) return;
-        const int itype = type(i);
+        const int i = av.ilist(ii);
+        if (!(av.mask(i) & gb)) return;
+        const int itype = av.type(i);
         const sphcut::Material &mi = mat(itype);
         if (mi.cp <= 0.0) return;
-        const double Ti = st(i, F::TEMP_F), rhoi = st(i, F::RHO_F);
-        const double massi = use_rmass ? rmass(i) : mass(itype);
+        const double Ti = av.st(i, F::TEMP_F), rhoi = av.st(i, F::RHO_F);
+        const double massi = use_rmass ? av.rmass(i) : av.mass(itype);
         const int fi = fw(i, 0) > 0.0;
         const int itn = itype * nt;
-        const double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
         double rate = 0.0;
-        for (int jj = 0; jj < numneigh(i); jj++) {
-          const int j = neighbors(i, jj) & NEIGHMASK;
-          if (!(mask(j) & gb)) continue;
-          const int jtype = type(j);
+        for (int jj = 0; jj < av.numneigh(i); jj++) {
+          const int j = av.neighbors(i, jj) & NEIGHMASK;
+          if (!(av.mask(j) & gb)) continue;
+          const int jtype = av.type(j);
           const sphcut::ThermalPair &tij = tp(itn + jtype);
-          const double xj[3] = {x(j, 0), x(j, 1), x(j, 2)};
+          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
           double dx[3], r2, wfac, ir2;
           if (!sphcut::thermal_support(tij, kern, xi, xj, dx, r2, wfac, ir2)) continue;
           const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
           const double ai = fi ? mi.kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(i, 1), dx, ir2) : tij.brook;
           const double aj =
               fw(j, 0) > 0.0 ? mat(jtype).kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(j, 1), mdx, ir2) : tij.brook;
-          const double vj = (use_rmass ? rmass(j) : mass(jtype)) / st(j, F::RHO_F);
-          rate += vj * wfac * sphcut::conductance_mean(ai, aj) * (st(j, F::TEMP_F) - Ti);
+          const double vj = (use_rmass ? av.rmass(j) : av.mass(jtype)) / av.st(j, F::RHO_F);
+          rate += vj * wfac * sphcut::conductance_mean(ai, aj) * (av.st(j, F::TEMP_F) - Ti);
         }
         double dT = rate / (rhoi * mi.cp);
         const int is_surf = has_surf ? surf(i, CS::FLAG) > 0.5 : 0;
@@ -467,7 +449,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
           p_rad += qr;
           dT -= (qc + qr) / (massi * mi.cp);
         }
-        st(i, F::HELD) = dT;
+        av.st(i, F::HELD) = dT;
       },
       pc, pr);
   fixkk->k_state.template modify<DeviceType>();

@@ -254,12 +254,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
 
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass(int nall, int any_as)
 {
-  auto x = atomKK->k_x.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
   auto pk = d_pack;
   auto mt = d_mat;
   const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
@@ -267,15 +262,15 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   using SL = StateLayout;
   Kokkos::parallel_for("sphcut:pair:stress_pass",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
-        for (int a = 0; a < 3; a++) pk(i, PK_X + a) = x(i, a);
-        if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == SL::TOOL) {
+        for (int a = 0; a < 3; a++) pk(i, PK_X + a) = av.x(i, a);
+        if (!(av.mask(i) & gb) || sphcut::role_from_mask(av.mask(i), tb, cb) == SL::TOOL) {
           pk(i, PK_M) = 0.0;    // not in the SPH solid: its neighbours skip it
           return;
         }
-        for (int a = 0; a < 3; a++) pk(i, PK_V + a) = st(i, SL::VEST + a);
-        pk(i, PK_RHO) = st(i, SL::RHO_F);
-        pk(i, PK_M) = use_rmass ? rmass(i) : mass(type(i));
-        sphcut::particle_stress(mt(type(i)), dim, any_as, st(i, SL::RHO_F), st(i, SL::TEMP_F), &st(i, SL::SF),
+        for (int a = 0; a < 3; a++) pk(i, PK_V + a) = av.st(i, SL::VEST + a);
+        pk(i, PK_RHO) = av.st(i, SL::RHO_F);
+        pk(i, PK_M) = use_rmass ? av.rmass(i) : av.mass(av.type(i));
+        sphcut::particle_stress(mt(av.type(i)), dim, any_as, av.st(i, SL::RHO_F), av.st(i, SL::TEMP_F), &av.st(i, SL::SF),
                                 &pk(i, PK_A), &pk(i, PK_R));
       });
 }

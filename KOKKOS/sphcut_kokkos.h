@@ -12,6 +12,8 @@
 #include "error.h"
 #include "neigh_request.h"
 #include "neighbor.h"
+#include "atom_kokkos.h"
+#include "neigh_list_kokkos.h"
 
 #include <mpi.h>
 #include <string>
@@ -139,6 +141,38 @@ template <class DeviceType> void kokkos_full_list(LAMMPS_NS::Neighbor *neighbor)
   rq->kokkos_device = std::is_same<DeviceType, ::LMPDeviceType>::value;
   rq->full = 1;
   rq->half = 0;
+}
+
+// the views of the atoms, of the solid's state and of a Kokkos neighbour list that the /kk
+// kernels read: gathered in one place (atom_views) instead of one local per view in each kernel
+template <class DeviceType> struct AtomViews {
+  typedef ArrayTypes<DeviceType> AT;
+  typename AT::t_x_array x;
+  typename AT::t_int_1d mask, type;
+  typename AT::t_float_1d rmass, mass;
+  typename AT::t_double_2d st;
+  typename AT::t_neighbors_2d neighbors;    // (empty without a list)
+  typename AT::t_int_1d numneigh, ilist;
+};
+
+template <class DeviceType>
+AtomViews<DeviceType> atom_views(LAMMPS_NS::AtomKokkos *atomKK, ::DAT::tdual_double_2d &k_state,
+                                 LAMMPS_NS::NeighList *list = nullptr)
+{
+  AtomViews<DeviceType> v;
+  v.x = atomKK->k_x.view<DeviceType>();
+  v.mask = atomKK->k_mask.view<DeviceType>();
+  v.type = atomKK->k_type.view<DeviceType>();
+  v.rmass = atomKK->k_rmass.view<DeviceType>();
+  v.mass = atomKK->k_mass.view<DeviceType>();
+  v.st = k_state.template view<DeviceType>();
+  if (list) {
+    auto *kl = static_cast<LAMMPS_NS::NeighListKokkos<DeviceType> *>(list);
+    v.neighbors = kl->d_neighbors;
+    v.numneigh = kl->d_numneigh;
+    v.ilist = kl->d_ilist;
+  }
+  return v;
 }
 
 }    // namespace sphcut
