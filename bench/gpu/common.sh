@@ -1,5 +1,5 @@
 # Sourced by the device scripts of bench/gpu (mechanics.sh, cutting.sh): environment, the
-# summary writer say(), the LAMMPS binary lmp() and build(), which builds Kokkos + LAMMPS with
+# summary writer say(), the LAMMPS binary lmp(), run_modes() and build(), which builds Kokkos + LAMMPS with
 # CUDA and the plugin on the device machine from .carry/sphcut-sources.tar.gz (once per machine).
 # Expects ROOT.
 OUT="${OUT:-$PWD/gpu-out}"
@@ -30,3 +30,15 @@ build() {
   say "build: $(( $(date +%s) - t0 )) s (deps + plugin, $NJ jobs)"
 }
 
+
+# build, then the modes named on the command line (default: check), each a function of the script
+run_modes() {
+  build
+  export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
+  local mode
+  for mode in "${@:-check}"; do
+    say "== $mode ($(date -u +%H:%M:%S))"
+    $mode
+  done
+  say "== done ($(date -u +%H:%M:%S))"
+}

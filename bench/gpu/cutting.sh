@@ -167,11 +167,5 @@ prof() {
   cd "$ROOT"
 }
 
-build
-export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
-for mode in "${@:-check}"; do
-  say "== $mode ($(date -u +%H:%M:%S))"
-  $mode
-done
-say "== done ($(date -u +%H:%M:%S))"
+run_modes "$@"
 tar czf "$OUT/logs.tar.gz" --exclude='*.dump' -C /tmp cut 2>/dev/null || true

@@ -114,11 +114,5 @@ arch() {
   block sm90-4M $p90 "$BIN" $GPU -var nx 126 -var steps 50
 }
 
-build
-export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
-for mode in "${@:-check}"; do
-  say "== $mode ($(date -u +%H:%M:%S))"
-  $mode
-done
-say "== done ($(date -u +%H:%M:%S))"
+run_modes "$@"
 tar czf "$OUT/logs.tar.gz" -C /tmp bench check taylor 2>/dev/null || true
