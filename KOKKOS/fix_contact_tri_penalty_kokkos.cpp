@@ -194,7 +194,7 @@ template <class DeviceType> struct ContactKernel {
     }
     const double pen = out.delta / (0.5 * hi / sfac);
     if (pen > r[R_MAXPEN]) r[R_MAXPEN] = pen;
-    for (int k = 0; k < 3; k++) s[F::XSPH + k] = 0.0;    // no XSPH drift in contact (CPU fix)
+    sphcut::contact_drift(&s[F::XSPH], in.n);    // no XSPH drift along the contact normal
     for (int k = 0; k < dim; k++) {
       f(i, k) += out.f[k];
       fc[k] = out.f[k];

@@ -695,10 +695,8 @@ void FixContactTriPenalty::post_force(int)
       fcontact[i][5] = feat + 1;
     }
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
-    // no XSPH drift in contact: the spring force does work with the velocity v that the
-    // kinetic energy sees, so the particle must move with v (a smoothed drift velocity
-    // moves it into or out of the spring without that work: energy from nothing)
-    for (int k = 0; k < 3; k++) st[i][F::XSPH + k] = 0.0;
+    // no XSPH drift along the contact normal (sphcut::contact_drift)
+    sphcut::contact_drift(&st[i][F::XSPH], in.n);
     for (int k = 0; k < dim; k++) {
       f[i][k] += out.f[k];
       fc[k] = out.f[k];
