@@ -81,6 +81,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
                       : " (/kk, fence no: host time per style, the device runs behind; fence yes for device times)";
   }
   void check_close_pairs() override;
+  void report_runaway() override;
   int device_dt_limits();
 
   // one rank: the state follows its atoms by tag on the device (no host exchange, see .cpp)

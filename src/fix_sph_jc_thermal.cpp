@@ -53,6 +53,7 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   toolbit = clampbit = 0;
   temp0 = -1.0;
   cfl = 0.0;
+  vmax = -1.0;
   dtmax = 0.0;
   dtmin = 0.0;
   thermal_cfl = 0.1;
@@ -79,6 +80,13 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
     } else if (kw == "cfl") {
       cfl = utils::numeric(FLERR, val, false, lmp);
       if (cfl <= 0.0 || cfl > 1.0) error->all(FLERR, "Fix sph/jc-thermal: cfl must be in (0,1], got {}", cfl);
+    } else if (kw == "vmax") {
+      if (strcmp(val, "none") == 0) vmax = 0.0;
+      else if (strcmp(val, "sound") == 0) vmax = -1.0;
+      else {
+        vmax = utils::is_double(val) ? utils::numeric(FLERR, val, false, lmp) : -1.0;
+        if (vmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: vmax must be > 0, sound or none, got {}", val);
+      }
     } else if (kw == "dtmax") {
       dtmax = utils::numeric(FLERR, val, false, lmp);
       if (dtmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: dtmax must be > 0, got {}", dtmax);
@@ -356,7 +364,7 @@ double FixSPHJCThermal::stable_dt()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const int it = type[i];
-    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i], cfl));
+    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i], cfl, vmax));
   }
   return finish_dt(dtloc);
 }
@@ -368,9 +376,46 @@ double FixSPHJCThermal::finish_dt(double dtloc)
   for (auto *st : timed) dtloc = std::min(dtloc, st->dt_limit(cfl, thermal_cfl));
   double dtnew;
   MPI_Allreduce(&dtloc, &dtnew, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (dtnew < 0.0) report_runaway();
   if (dtmax > 0.0) dtnew = std::min(dtnew, dtmax);
   if (dtmin > 0.0) dtnew = std::max(dtnew, dtmin);
   return dtnew;
+}
+
+// a particle faster than vmax (sphcut::particle_dt gave -1): stop the run and name the fastest
+// one against its limit (host arrays; the /kk fix copies them there first)
+void FixSPHJCThermal::report_runaway()
+{
+  double **v = atom->v;
+  double **x = atom->x;
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const Material *mat = pair->materials();
+  struct {
+    double ratio;
+    int rank;
+  } loc = {-1.0, comm->me}, glob;
+  double info[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};    // tag, x, y, z, speed, limit
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit) || role_of(mask[i]) == TOOL) continue;
+    const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    const double lim = sphcut::runaway_speed(mat[type[i]], vmax);
+    if (!(lim > 0.0) || vv <= lim) continue;
+    const double ratio = vv == vv ? vv / lim : 1.0e300;    // a speed that is not a number first
+    if (ratio <= loc.ratio) continue;
+    loc.ratio = ratio;
+    info[0] = atom->tag[i];
+    for (int k = 0; k < 3; k++) info[1 + k] = x[i][k];
+    info[4] = vv;
+    info[5] = lim;
+  }
+  MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  MPI_Bcast(info, 6, MPI_DOUBLE, glob.rank, world);
+  error->all(FLERR,
+             "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) moves at {:.4g}, faster than vmax {:.4g} "
+             "(default: its material's sound speed), at step {}: the solution has become unstable "
+             "(see the fix's doc page, keyword vmax)",
+             (bigint) info[0], info[1], info[2], info[3], info[4], info[5], update->ntimestep);
 }
 
 void FixSPHJCThermal::apply_dt(double dtnew)

@@ -115,13 +115,27 @@ SPHCUT_INLINE double integrate_second_half(const Material &mt, int role, double 
   return work;
 }
 
+/* the speed above which a particle has run away (fix sph/jc-thermal keyword vmax): vmax < 0 (the
+   default) its material's longitudinal sound speed c_l, 0 no limit, > 0 that speed */
+SPHCUT_INLINE double runaway_speed(const Material &mt, double vmax)
+{
+  return vmax < 0.0 ? mt.cl : vmax;
+}
+
 /* stable time step of one particle (adaptive dt, keyword cfl), mechanics:
      dt = cfl h / (c_l + |v|)        (not for tool particles)
-   the conduction and contact limits come from fix heat/fmfs and fix contact/tri-penalty */
-SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double cfl)
+   the conduction and contact limits come from fix heat/fmfs and fix contact/tri-penalty.
+   A particle faster than runaway_speed (or with a velocity that is not a number) gives -1,
+   which no step can be: the step's minimum carries the check for free, and the fix stops the
+   run naming the particle (FixSPHJCThermal::report_runaway) instead of letting it fly off and
+   fail later somewhere else ("Domain too large for neighbor bins"). */
+SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double cfl,
+                                 double vmax)
 {
   if (role == SL::TOOL) return 1.0e300;
   const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  const double lim = runaway_speed(mt, vmax);
+  if (lim > 0.0 && !(vv <= lim)) return -1.0;
   return cfl * h / (mt.cl + vv);
 }
 

@@ -320,6 +320,52 @@ TEST(Setup, WarnsAboutCoincidentParticles)
   }
 }
 
+// a particle faster than vmax (default: the sound speed c_l, 5875 m/s for this steel) stops the
+// run with an error that names it, at the step it happens, instead of flying off until LAMMPS
+// fails somewhere else; vmax sets the speed, vmax none switches the check off
+TEST(Runaway, FasterThanVmaxStopsTheRunNamingTheParticle)
+{
+  auto scene = [](Lammps &l, const std::string &fixargs) {
+    block2d(l, 8, 6, 1.0e-3);
+    l.cmds({"unfix sph", "fix sph all sph/jc-thermal cfl 0.3 " + fixargs, "run 0"});
+  };
+  {
+    Lammps l;
+    scene(l, "");
+    l.cmd("set atom 17 vx 7000.0");    // supersonic: 1.19 c_l
+    EXPECT_TRUE(l.error_contains("run 5", "particle 17 at ("));
+  }
+  {
+    Lammps l;
+    scene(l, "");
+    l.cmd("set atom 17 vx 7000.0");
+    EXPECT_TRUE(l.error_contains("run 5", "moves at 7000, faster than vmax 5875"));
+  }
+  {
+    Lammps l;
+    scene(l, "vmax 100");
+    l.cmd("set atom 9 vy -150.0");
+    EXPECT_TRUE(l.error_contains("run 5", "particle 9 at (")) << "vmax 100";
+  }
+  {
+    Lammps l;
+    scene(l, "vmax 200");    // 150 m/s is allowed
+    l.cmds({"set atom 9 vy -150.0", "run 5"});
+    EXPECT_EQ(l.lmp->update->ntimestep, 5);
+  }
+  {
+    Lammps l;
+    scene(l, "vmax none");
+    l.cmds({"set atom 17 vx 7000.0", "run 5"});
+    EXPECT_EQ(l.lmp->update->ntimestep, 5);
+  }
+  Lammps l;
+  block2d(l, 4, 4, 1.0e-3);
+  l.cmd("unfix sph");
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 vmax -1", "vmax must be > 0, sound or none, got -1"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 vmax fast", "vmax must be > 0"));
+}
+
 // roles: rigid tool particles move with their own velocity and exert/feel no mechanics;
 // clamped particles keep their position while their neighbours move
 TEST(Roles, ToolAndClamped)
