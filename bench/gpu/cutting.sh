@@ -6,7 +6,10 @@
 #   check    CPU (1 rank, CPU styles) vs GPU per-atom state after 1000 steps in contact: the 2D
 #            quick cut (11 across) and the 3D cut with free sides (6 across, 3 layers); <= 1e-8
 #   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
-#   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces
+#   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces; in
+#            segments with CUT_END (restart files, continued by the next call)
+#   watch    the 2D cut at NY across until a particle runs away: the state, its history, GPU vs CPU
+#   scale    MPI scaling of the CPU styles, 2D cut at 41 and 81 across, 1-16 ranks
 #   slab     2D vs 3D periodic slab (plane strain) at NYS (default 11) across over CUTS (0.3e-3 m):
 #            steady forces per mm of width
 #   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s
@@ -66,15 +69,95 @@ rate2d() {
   cd "$ROOT"
 }
 
+# the 2D cut at NY across over CUT of cut, in segments that fit the device tool's calls: with
+# CUT_END (the epoch second the call must end by) the run stops in time and writes
+# restart.cutting; the next call continues it (from /tmp/cut on a warm machine, else from
+# .carry/cut2d-NY/, the files a previous call left in $OUT/cut2d-NY/)
 cut2d() {
-  local ny=${NY:-41} cut=${CUT:-2e-3}
-  mkdir -p $W/cut2d-$ny; cd $W/cut2d-$ny
+  local ny=${NY:-41} cut=${CUT:-2e-3} cont=0 wall=0; local d=$W/cut2d-$ny
+  mkdir -p $d; cd $d
+  if [ -f restart.cutting ]; then cont=1
+  elif [ -f "$ROOT/.carry/cut2d-$ny/restart.cutting" ]; then cp "$ROOT/.carry/cut2d-$ny/"* . && cont=1; fi
+  [ -n "${CUT_END:-}" ] && wall=$(( CUT_END - $(date +%s) - 40 ))
+  [ "$wall" -lt 0 ] && { say "cut2d ny $ny: no time left in this call"; cd "$ROOT"; return 0; }
+  local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
   local t0; t0=$(date +%s)
   timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
-    -var printevery 100 -var dumpevery 0 -log log.cutting > screen 2>&1 || tail -3 screen
-  say "cut2d ny $ny cut $cut: $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.cutting | tail -1)"
+    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -log log.seg$seg > screen 2>&1 || tail -3 screen
+  say "cut2d ny $ny cut $cut, segment $seg (continue $cont, walltime $wall): $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.seg$seg | tail -1)"
   say "  $(tail -1 forces.dat)"
+  say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
+  mkdir -p "$OUT/cut2d-$ny" && cp forces.dat log.seg* "$OUT/cut2d-$ny/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/cut2d-$ny/"; }
+  cd "$ROOT"
+}
+
+# a run that blows up: the 2D cut at NY across with a watchdog (stop when a particle is faster than
+# VBAD m/s, checked every 100 steps; restart files every 2000 steps, two alternating), the state
+# at the stop (final.dump), then from the older restart file the same steps again on the GPU with
+# dumps every 100 steps and on one CPU core (CPU styles): is it the scheme or the port?  The bad
+# particles' histories and their neighbours go to $OUT/watch.txt (bench/gpu/watch.py).
+# WATCH_ARGS: more settings of the example (e.g. "-var hdx 1.5").  A warm machine continues.
+watch() {
+  local ny=${NY:-41}; local d=$W/watch-$ny
+  mkdir -p $d; cd $d
+  local dumpcols="id type x y vx vy density pressure vonmises plastic_strain plastic_strain_rate temperature role fcontact_n fcontact_t contact_feature"
+  sed -e "s|^run          \${nsteps}|variable vmag atom sqrt(vx*vx+vy*vy)\ncompute vmax all reduce max v_vmag\nvariable vbad equal c_vmax\nfix watch all halt 100 v_vbad > ${VBAD:-300} error continue\nrestart 2000 r.a r.b\n&\nunfix watch\ndump_sph snap all \${printevery} final.dump $dumpcols\ndump_modify snap sort id\nrun 0|" \
+    "$EX2" > in.watch
+  grep -q "fix watch" in.watch || { say "watch: the edit does not apply"; cd "$ROOT"; return 1; }
+  local wall=$(( ${CUT_END:-$(( $(date +%s) + 400 ))} - $(date +%s) - 150 ))
+  # a warm machine continues the run of the previous call (restart.cutting written at its walltime)
+  local cont=0; [ -f restart.cutting ] && cont=1
+  [ -f log.watch ] && cat log.watch >> log.watch.all
+  timeout $(( wall + 60 )) "$BIN" $GPUK $NEV -in in.watch -var ny $ny -var thermoevery 10000 -var printevery 100 \
+    -var dumpevery 0 -var continue $cont -var walltime $wall ${WATCH_ARGS:-} -log log.watch > screen 2>&1 || tail -3 screen
+  say "watch ny $ny (continue $cont): $(grep '^Loop time' log.watch | head -1)"
+  say "  $(grep -m1 'halt condition' log.watch)"
+  say "  $(tail -1 forces.dat)"
+  cp forces.dat "$OUT/watch-forces.dat"
+  grep -q "halt condition" log.watch || { cd "$ROOT"; return 0; }
+  local old; old=$(ls -tr r.a r.b 2>/dev/null | head -1)
+  [ -n "$old" ] || { cd "$ROOT"; return 0; }
+  local s0; s0=$(grep -m1 "halt condition" log.watch | grep -o "step [0-9]*" | awk '{print $2}')
+  for mode in gpu cpu; do
+    mkdir -p $d/re-$mode && cp $old $d/re-$mode/restart.cutting && cd $d/re-$mode
+    # a restart written under -k on is read with -k on only (atom style atomic/kk); the CPU styles
+    # then run with Kokkos' atoms and run_style verlet/kk (unittest/test_kokkos.cpp)
+    local args="$GPUK $NEV" in=../in.watch
+    if [ $mode = cpu ]; then
+      args="${CPUK:--k on g 1 t 1} $NEV" in=../in.watch.cpu
+      sed -e 's|^label        setup|&\nrun_style verlet/kk|' ../in.watch > $in
+    fi
+    timeout 150 "$BIN" $args -in $in -var ny $ny ${WATCH_ARGS:-} -var continue 1 -var steps 6000 -var thermoevery 1000 \
+      -var printevery 100 -var dumpevery 100 -log log.re > screen 2>&1 || tail -3 screen
+    say "  rerun on the $mode from $old: $(grep -m1 'halt condition' log.re || grep '^Loop time' log.re | head -1)"
+    cd $d
+  done
+  python3 "$ROOT/bench/gpu/watch.py" final.dump re-gpu re-cpu ${VBAD:-300} > "$OUT/watch.txt" 2>&1
+  # the restart file the reruns started from, to rerun it elsewhere (-var continue 1)
+  gzip -c $old > "$OUT/watch-restart.gz"
+  head -40 "$OUT/watch.txt" >> "$SUM"
+  cd "$ROOT"
+}
+
+# MPI scaling of the CPU styles on the device machine's cores (issue 14): the 2D cut at each
+# of SCALE_NY (default 41 81) across, the tool in contact from the start (xstart 0.6), SCALE_STEPS
+# steps (default 400) on 1, 2, 4, 8, 16 ranks; parallel efficiency t1 / (N tN) of the loop time
+scale() {
+  mkdir -p $W/scale; cd $W/scale
+  local ny np
+  for ny in ${SCALE_NY:-41 81}; do
+    local t1=""
+    for np in 1 2 4 8 16; do
+      timeout 200 mpirun -np $np "$BIN" -in "$EX2" -var ny $ny -var xstart 0.6 -var steps ${SCALE_STEPS:-400} \
+        -var thermoevery 100 -var printevery 100 -var dumpevery 0 -log log.$ny.$np > screen.$ny.$np 2>&1 || tail -3 screen.$ny.$np
+      local t; t=$(awk '/^Loop time/{t=$4} END{print t}' log.$ny.$np)
+      [ -z "$t1" ] && t1=$t
+      say "scale ny $ny np $np: $(grep '^Loop time' log.$ny.$np | tail -1); efficiency $(awk -v a=$t1 -v b=$t -v n=$np 'BEGIN{printf "%.0f %%", 100*a/(n*b)}')"
+      grep -A1 "^Loop time" log.$ny.$np >/dev/null
+      awk '/^Per MPI rank memory/{next} /Nlocal:/{print "    " $0}' log.$ny.$np | tail -1 >> "$SUM"
+    done
+  done
   cd "$ROOT"
 }
 
@@ -168,4 +251,4 @@ prof() {
 }
 
 run_modes "$@"
-tar czf "$OUT/logs.tar.gz" --exclude='*.dump' -C /tmp cut 2>/dev/null || true
+[ -n "${NOLOGS:-}" ] || tar czf "$OUT/logs.tar.gz" --exclude='*.dump' -C /tmp cut 2>/dev/null || true
