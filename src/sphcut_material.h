@@ -209,12 +209,28 @@ SPHCUT_INLINE double artificial_viscosity(double alpha, double beta, double vr, 
   return (-alpha * cbar * mu + beta * mu * mu) / rhobar;
 }
 
+// true when no principal value of a symmetric tensor (Voigt) is negative: s is positive
+// semidefinite (its principal minors are >= 0)
+SPHCUT_INLINE bool no_negative_eigenvalue(const double *s)
+{
+  const double a = s[XX], b = s[YY], c = s[ZZ], d = s[XY], e = s[XZ], f = s[YZ];
+  if (a < 0.0 || b < 0.0 || c < 0.0) return false;
+  if (a * b - d * d < 0.0 || a * c - e * e < 0.0 || b * c - f * f < 0.0) return false;
+  return a * (b * c - f * f) - d * (d * c - f * e) + e * (d * f - b * e) >= 0.0;
+}
+
 /* ---- artificial stress (Gray, Monaghan & Swift 2001), Lambda of eq. (11) --
    per particle: R = sum over principal directions with tensile principal
    stress sigma_p > 0 of  -eps sigma_p / rho^2  (rotated back).
    pair term: f^n (R_i + R_j), f = W(r)/W(dp).                           */
 SPHCUT_INLINE void artificial_stress(double eps, const double *sigma, double rho, int dim, double *R)
 {
+  if (dim == 3 && no_negative_eigenvalue(sigma)) {
+    // every principal stress tensile (or zero): R = -eps sigma / rho^2 without the eigen-
+    // decomposition (a third of the calls in a compressed block; equal up to round-off)
+    for (int k = 0; k < 6; k++) R[k] = -eps * sigma[k] / (rho * rho);
+    return;
+  }
   double lam[3], q[9];
   if (dim == 2) sym_eigen_2d(sigma, lam, q);
   else sym_eigen(sigma, lam, q);

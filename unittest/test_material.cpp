@@ -597,3 +597,33 @@ TEST(Stabilisation, ArtificialStress)
   artificial_stress(eps, diag3, rho, 3, R);
   for (int k = 0; k < 6; k++) EXPECT_NEAR(R[k], a / 3.0, 1.0e-12 * fabs(a)) << k;
 }
+
+// every principal stress tensile (or zero): R = -eps sigma / rho^2, taken without the
+// eigen-decomposition; the same as the sum over the principal directions up to round-off,
+// and a state with one compressive principal stress still goes through the decomposition
+TEST(Stabilisation, ArtificialStressAllTensile)
+{
+  const double eps = 0.3, rho = 7800.0;
+  std::mt19937 gen(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; trial++) {
+    // sigma = Q diag(l) Q^T with a random rotation (of a random symmetric matrix) and l >= 0,
+    // one l = 0 in a quarter of the trials, and l[2] < 0 in every fourth
+    double g[6], lg[3], q[9];
+    for (int k = 0; k < 6; k++) g[k] = u(gen);
+    sym_eigen(g, lg, q);
+    double l[3] = {4.0e8 * (1.0 + u(gen)), 3.0e8 * (1.0 + u(gen)), 2.0e8 * (1.0 + u(gen))};
+    if (trial % 4 == 1) l[1] = 0.0;
+    if (trial % 4 == 3) l[2] = -l[2];
+    double sig[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
+    for (int k = 0; k < 6; k++)
+      for (int m = 0; m < 3; m++) sig[k] += q[3 * ia[k] + m] * q[3 * ib[k] + m] * l[m];
+    double R[6], ref[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    artificial_stress(eps, sig, rho, 3, R);
+    for (int k = 0; k < 6; k++)
+      for (int m = 0; m < 3; m++)
+        if (l[m] > 0.0) ref[k] -= eps * q[3 * ia[k] + m] * q[3 * ib[k] + m] * l[m] / (rho * rho);
+    for (int k = 0; k < 6; k++) EXPECT_NEAR(R[k], ref[k], 1.0e-13 * 8.0e8 * eps / (rho * rho)) << trial << " " << k;
+  }
+}
