@@ -67,6 +67,14 @@ SPHCUT_INLINE int sym_triple_index(int a, int b, int c)
   return a + b * (b + 1) / 2 + c * (c + 1) * (c + 2) / 6;
 }
 
+// max(m, |x|) with fmax's rule for a NaN x (m is kept), without the libm call fmax is
+// without -ffast-math
+SPHCUT_INLINE double max_abs(double m, double x)
+{
+  const double ax = fabs(x);
+  return ax > m ? ax : m;
+}
+
 // solve a x = b in place (x returned in b); a is destroyed.  Returns false
 // when a pivot falls below tol * max|a_ij| (singular or ill-conditioned).
 template <int N>
@@ -74,7 +82,7 @@ SPHCUT_INLINE bool dense_solve(double (&a)[N][N], double (&b)[N], double tol)
 {
   double scale = 0.0;
   for (int i = 0; i < N; i++)
-    for (int j = 0; j < N; j++) scale = fmax(scale, fabs(a[i][j]));
+    for (int j = 0; j < N; j++) scale = max_abs(scale, a[i][j]);
   if (!(scale > 0.0)) return false;    // also catches NaN
   const double pmin = tol * scale;
   for (int k = 0; k < N; k++) {
@@ -114,7 +122,7 @@ SPHCUT_INLINE bool dense_inverse(const double (&a)[N][N], double (&inv)[N][N], d
     for (int j = 0; j < N; j++) {
       m[i][j] = a[i][j];
       inv[i][j] = i == j ? 1.0 : 0.0;
-      scale = fmax(scale, fabs(a[i][j]));
+      scale = max_abs(scale, a[i][j]);
     }
   if (!(scale > 0.0)) return false;
   const double pmin = tol * scale;
@@ -482,14 +490,14 @@ SPHCUT_INLINE double surface_lambda(const double (&B)[DIM][DIM])
     const double d = 0.5 * (B[0][0] - B[1][1]);
     return m - sqrt(d * d + bxy * bxy);
   }
-  double s[6], lam[3], q[9];
+  double s[6], lam[3];
   s[XX] = B[0][0];
   s[YY] = B[1 % DIM][1 % DIM];
   s[ZZ] = B[2 % DIM][2 % DIM];
   s[XY] = 0.5 * (B[0][1 % DIM] + B[1 % DIM][0]);
   s[XZ] = 0.5 * (B[0][2 % DIM] + B[2 % DIM][0]);
   s[YZ] = 0.5 * (B[1 % DIM][2 % DIM] + B[2 % DIM][1 % DIM]);
-  sym_eigen(s, lam, q);
+  sym_eigenvalues(s, lam);
   return fmin(lam[0], fmin(lam[1], lam[2]));
 }
 
