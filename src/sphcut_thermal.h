@@ -260,6 +260,16 @@ SPHCUT_INLINE bool fmfs_system(const FmfsAccum<DIM> &acc, const double (&A)[DIM]
       W[p][e] = s;
     }
 
+  // the packed indices of the loops below, once per call (the loops are too long to be
+  // unrolled completely, so the index functions would run, with their compare and swap, per
+  // entry): tri[p][c] = triple(a, b, c) of pair p = (a, b), pe[e][c] = pair(e, c)
+  int tri[NS][DIM], pe[DIM][DIM];
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++)
+      for (int c = 0; c < DIM; c++) tri[sym_pair_index(a, b)][c] = sym_triple_index(a, b, c);
+  for (int e = 0; e < DIM; e++)
+    for (int c = 0; c < DIM; c++) pe[e][c] = sym_pair_index(e, c);
+
   // K_(ab),(cd) = M_abcd + M_abdc (c < d) or M_abcc (c == d),
   // M_abcd = P4_abcd - W_ab,e T3_ecd;  rhs delta_ab
   double K[NS][NS];
@@ -270,11 +280,11 @@ SPHCUT_INLINE bool fmfs_system(const FmfsAccum<DIM> &acc, const double (&A)[DIM]
       for (int d = 0; d < DIM; d++)
         for (int c = 0; c <= d; c++) {
           const int q = sym_pair_index(c, d);
-          double m = acc.P4[sym_triple_index(a, b, c)][d];
-          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
+          double m = acc.P4[tri[p][c]][d];
+          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[pe[e][c]][d];
           if (c != d) {
-            m += acc.P4[sym_triple_index(a, b, d)][c];
-            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
+            m += acc.P4[tri[p][d]][c];
+            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[pe[e][d]][c];
           }
           K[p][q] = m;
         }
