@@ -636,6 +636,27 @@ SPHCUT_INLINE int sym_quad_index(int a, int b, int c, int d)
       v[3] * (v[3] + 1) * (v[3] + 2) * (v[3] + 3) / 24;
 }
 
+// sym_quad_index(a, b, c, d) of a sorted triple a <= b <= c: d inserted, three comparisons
+SPHCUT_INLINE int sym_quad_index_sorted3(int a, int b, int c, int d)
+{
+  int v0 = a, v1 = b, v2 = c, v3 = d;
+  if (d < c) {
+    v3 = c;
+    if (d < b) {
+      v2 = b;
+      if (d < a) {
+        v1 = a;
+        v0 = d;
+      } else {
+        v1 = d;
+      }
+    } else {
+      v2 = d;
+    }
+  }
+  return v0 + v1 * (v1 + 1) / 2 + v2 * (v2 + 1) * (v2 + 2) / 6 + v3 * (v3 + 1) * (v3 + 2) * (v3 + 3) / 24;
+}
+
 // zero the surface part (B, gs) and, with fmfs, the FMFS part (Q3, T3, P4)
 template <int DIM> SPHCUT_INLINE void support_zero(SupportMoments<DIM> &m, bool fmfs)
 {
@@ -703,12 +724,11 @@ template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> 
         acc.Q3[p][c] = m.Q3[t];
       }
     }
+  int t = 0;    // = sym_triple_index(a, b, c): colex order
   for (int c = 0; c < DIM; c++)
     for (int b = 0; b <= c; b++)
-      for (int a = 0; a <= b; a++) {
-        const int t = sym_triple_index(a, b, c);
-        for (int d = 0; d < DIM; d++) acc.P4[t][d] = m.P4[sym_quad_index(a, b, c, d)];
-      }
+      for (int a = 0; a <= b; a++, t++)
+        for (int d = 0; d < DIM; d++) acc.P4[t][d] = m.P4[sym_quad_index_sorted3(a, b, c, d)];
 }
 
 // B of the moments as a full matrix (for surface_lambda, surface_normal, dense_inverse)
