@@ -555,8 +555,9 @@ SPHCUT_INLINE bool surface_normal(const FmfsAccum<DIM> &acc, double *n, double t
 //   B_ab   = sum s r_a r_b            gs_a    = sum s r_a
 //   Q3_abc = sum s r_a r_b r_c        T3_abc  = sum s r_a r_b r_c / r^2
 //   P4_abcd = sum s r_a r_b r_c r_d / r^2
-// all fully symmetric: 6 + 3 + 10 + 10 + 15 = 44 sums in 3D (FmfsAccum: 90), no sqrt and
-// no division per pair beyond the kernel's.  One walk over the neighbours gives the
+// all fully symmetric: 6 + 3 + 10 + 10 + 15 = 44 moments in 3D (FmfsAccum: 90), of which 9
+// follow from the others (sum_c T3_acc = gs_a, sum_c P4_abcc = B_ab): 35 sums per pair, no
+// sqrt and no division per pair beyond the kernel's.  One walk over the neighbours gives the
 // surface indicator (B, gs) and the FMFS moments; support_to_fmfs expands them into
 // FmfsAccum for fmfs_weights (equal to fmfs_add's sums up to round-off).
 
@@ -678,11 +679,16 @@ template <int DIM> SPHCUT_INLINE void support_add_surface(SupportMoments<DIM> &m
   }
 }
 
-// the FMFS part of neighbour j (r, s as above, ir2 = 1/|r|^2)
+// the FMFS part of neighbour j (r, s as above, ir2 = 1/|r|^2).  The moments with two last
+// indices equal to the last axis z (T3_azz: the last DIM triples; P4_abzz: the last NS
+// quadruples) are left out: support_to_fmfs takes them from the trace identities
+//   sum_c T3_acc = gs_a,   sum_c P4_abcc = B_ab     (r_x^2 + r_y^2 + r_z^2 = r^2)
+// (3 + 6 of the 35 FMFS sums per pair in 3D, 2 + 3 of 14 in 2D)
 template <int DIM>
 SPHCUT_INLINE void support_add_fmfs(SupportMoments<DIM> &m, const double *r, double s, double ir2)
 {
-  double m2[SupportMoments<DIM>::NS], m3[SupportMoments<DIM>::NT];
+  using SM = SupportMoments<DIM>;
+  double m2[SM::NS], m3[SM::NT];
   int p = 0;
   for (int b = 0; b < DIM; b++)
     for (int a = 0; a <= b; a++) m2[p++] = r[a] * r[b];
@@ -691,22 +697,41 @@ SPHCUT_INLINE void support_add_fmfs(SupportMoments<DIM> &m, const double *r, dou
     for (int b = 0; b <= c; b++)
       for (int a = 0; a <= b; a++) m3[t++] = r[a] * m2[b + c * (c + 1) / 2];
   const double u = s * ir2;
-  for (int k = 0; k < SupportMoments<DIM>::NT; k++) {
-    m.Q3[k] += s * m3[k];
-    m.T3[k] += u * m3[k];
-  }
+  for (int k = 0; k < SM::NT; k++) m.Q3[k] += s * m3[k];
+  for (int k = 0; k < SM::NT - DIM; k++) m.T3[k] += u * m3[k];
   int q = 0;
   for (int d = 0; d < DIM; d++)
-    for (int c = 0; c <= d; c++)
+    for (int c = 0; c <= d; c++) {
+      if (c == DIM - 1) break;    // d = c = z: the last NS quadruples
       for (int b = 0; b <= c; b++) {
         const double ub = u * r[d] * r[c] * r[b];
         for (int a = 0; a <= b; a++) m.P4[q++] += ub * r[a];
       }
+    }
 }
 
 // the FMFS moments as FmfsAccum (gT = S1 = 0: the weights need no temperatures)
 template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> &m, FmfsAccum<DIM> &acc)
 {
+  using SM = SupportMoments<DIM>;
+  // the moments support_add_fmfs leaves out, from the trace identities: T3_azz = gs_a -
+  // sum_(c<z) T3_acc, P4_abzz = B_ab - sum_(c<z) P4_abcc (in the order of the packed index, so
+  // that P4_zzzz finds the P4_cczz it needs)
+  double T3[SM::NT], P4[SM::NQ];
+  for (int k = 0; k < SM::NT - DIM; k++) T3[k] = m.T3[k];
+  for (int k = 0; k < SM::NQ - SM::NS; k++) P4[k] = m.P4[k];
+  for (int a = 0; a < DIM; a++) {
+    double v = m.gs[a];
+    for (int c = 0; c < DIM - 1; c++) v -= T3[sym_triple_index(a, c, c)];
+    T3[SM::NT - DIM + a] = v;
+  }
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) {
+      const int p = sym_pair_index(a, b);
+      double v = m.B[p];
+      for (int c = 0; c < DIM - 1; c++) v -= P4[sym_quad_index(a, b, c, c)];
+      P4[SM::NQ - SM::NS + p] = v;
+    }
   for (int a = 0; a < DIM; a++) {
     acc.gT[a] = 0.0;
     acc.gs[a] = m.gs[a];
@@ -720,7 +745,7 @@ template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> 
       const int p = sym_pair_index(a, b);
       for (int c = 0; c < DIM; c++) {
         const int t = sym_triple_index(a, b, c);
-        acc.T3[p][c] = m.T3[t];
+        acc.T3[p][c] = T3[t];
         acc.Q3[p][c] = m.Q3[t];
       }
     }
@@ -728,7 +753,7 @@ template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> 
   for (int c = 0; c < DIM; c++)
     for (int b = 0; b <= c; b++)
       for (int a = 0; a <= b; a++, t++)
-        for (int d = 0; d < DIM; d++) acc.P4[t][d] = m.P4[sym_quad_index_sorted3(a, b, c, d)];
+        for (int d = 0; d < DIM; d++) acc.P4[t][d] = P4[sym_quad_index_sorted3(a, b, c, d)];
 }
 
 // B of the moments as a full matrix (for surface_lambda, surface_normal, dense_inverse)
