@@ -103,9 +103,10 @@ SPHCUT_INLINE double mat_inverse(const double *a, double *inv, int dim)
   return det;
 }
 
-// eigen decomposition of a symmetric 3x3 tensor (Voigt) by cyclic Jacobi
-// rotations: eigenvalues in lam[3], eigenvectors as columns of q (row major).
-SPHCUT_INLINE void sym_eigen(const double *s, double *lam, double *q)
+// cyclic Jacobi rotations of a symmetric 3x3 tensor (Voigt) to diagonal form: eigenvalues in
+// lam[3] and, with VEC, the eigenvectors as columns of q (row major).  Without VEC the
+// rotations are the same, so lam is the same to the bit, without the work on the vectors.
+template <bool VEC> SPHCUT_INLINE void sym_jacobi(const double *s, double *lam, double *q)
 {
   double a[3][3] = {{s[XX], s[XY], s[XZ]}, {s[XY], s[YY], s[YZ]}, {s[XZ], s[YZ], s[ZZ]}};
   double v[3][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}};
@@ -130,18 +131,33 @@ SPHCUT_INLINE void sym_eigen(const double *s, double *lam, double *q)
           a[p][k] = c * apk - sn * ark;
           a[r][k] = sn * apk + c * ark;
         }
-        for (int k = 0; k < 3; k++) {
-          const double vkp = v[k][p], vkr = v[k][r];
-          v[k][p] = c * vkp - sn * vkr;
-          v[k][r] = sn * vkp + c * vkr;
-        }
+        if (VEC)
+          for (int k = 0; k < 3; k++) {
+            const double vkp = v[k][p], vkr = v[k][r];
+            v[k][p] = c * vkp - sn * vkr;
+            v[k][r] = sn * vkp + c * vkr;
+          }
       }
     }
   }
   for (int k = 0; k < 3; k++) {
     lam[k] = a[k][k];
-    for (int l = 0; l < 3; l++) q[3 * k + l] = v[k][l];
+    if (VEC)
+      for (int l = 0; l < 3; l++) q[3 * k + l] = v[k][l];
   }
+}
+
+// eigen decomposition of a symmetric 3x3 tensor (Voigt) by cyclic Jacobi
+// rotations: eigenvalues in lam[3], eigenvectors as columns of q (row major).
+SPHCUT_INLINE void sym_eigen(const double *s, double *lam, double *q)
+{
+  sym_jacobi<true>(s, lam, q);
+}
+
+// the eigenvalues alone (the same values as sym_eigen's)
+SPHCUT_INLINE void sym_eigenvalues(const double *s, double *lam)
+{
+  sym_jacobi<false>(s, lam, nullptr);
 }
 
 // eigen decomposition of the x-y block of a symmetric tensor (closed form);

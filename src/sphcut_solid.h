@@ -44,7 +44,7 @@ SPHCUT_INLINE void predict_state(const Material &mt, double dt, double *s)
   s[SL::RHO_F] = s[SL::RHO] + dt * s[SL::DRHO_O];
   for (int k = 0; k < 6; k++) s[SL::SF + k] = s[SL::SXX + k] + dt * s[SL::DS_O + k];
   s[SL::TEMP_F] = s[SL::TEMP] + dt * s[SL::DTEMP_O];
-  radial_return(mt, &s[SL::SF], s[SL::EPS], s[SL::TEMP_F], dt, nullptr);
+  radial_return(mt, &s[SL::SF], s[SL::EPS], s[SL::TEMP_F], dt, nullptr, s[SL::EPSDOT] * dt);
 }
 
 /* initial_integrate of one particle: x, v are the particle's rows, f its
@@ -100,7 +100,7 @@ SPHCUT_INLINE double integrate_second_half(const Material &mt, int role, double 
     for (int k = 0; k < 6; k++) s[SL::SXX + k] += hdt * (s[SL::DS_O + k] + s[SL::DS + k]);
     s[SL::UINT] += hdt * (s[SL::DU_O] + s[SL::DU]);
     double sigy = 0.0;
-    const double deps = radial_return(mt, &s[SL::SXX], s[SL::EPS], s[SL::TEMP], dt, &sigy);
+    const double deps = radial_return(mt, &s[SL::SXX], s[SL::EPS], s[SL::TEMP], dt, &sigy, s[SL::EPSDOT] * dt);
     s[SL::EPS] += deps;
     s[SL::EPSDOT] = deps / dt;
     if (deps > 0.0) {

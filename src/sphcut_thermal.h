@@ -67,6 +67,14 @@ SPHCUT_INLINE int sym_triple_index(int a, int b, int c)
   return a + b * (b + 1) / 2 + c * (c + 1) * (c + 2) / 6;
 }
 
+// max(m, |x|) with fmax's rule for a NaN x (m is kept), without the libm call fmax is
+// without -ffast-math
+SPHCUT_INLINE double max_abs(double m, double x)
+{
+  const double ax = fabs(x);
+  return ax > m ? ax : m;
+}
+
 // solve a x = b in place (x returned in b); a is destroyed.  Returns false
 // when a pivot falls below tol * max|a_ij| (singular or ill-conditioned).
 template <int N>
@@ -74,7 +82,7 @@ SPHCUT_INLINE bool dense_solve(double (&a)[N][N], double (&b)[N], double tol)
 {
   double scale = 0.0;
   for (int i = 0; i < N; i++)
-    for (int j = 0; j < N; j++) scale = fmax(scale, fabs(a[i][j]));
+    for (int j = 0; j < N; j++) scale = max_abs(scale, a[i][j]);
   if (!(scale > 0.0)) return false;    // also catches NaN
   const double pmin = tol * scale;
   for (int k = 0; k < N; k++) {
@@ -114,7 +122,7 @@ SPHCUT_INLINE bool dense_inverse(const double (&a)[N][N], double (&inv)[N][N], d
     for (int j = 0; j < N; j++) {
       m[i][j] = a[i][j];
       inv[i][j] = i == j ? 1.0 : 0.0;
-      scale = fmax(scale, fabs(a[i][j]));
+      scale = max_abs(scale, a[i][j]);
     }
   if (!(scale > 0.0)) return false;
   const double pmin = tol * scale;
@@ -252,6 +260,16 @@ SPHCUT_INLINE bool fmfs_system(const FmfsAccum<DIM> &acc, const double (&A)[DIM]
       W[p][e] = s;
     }
 
+  // the packed indices of the loops below, once per call (the loops are too long to be
+  // unrolled completely, so the index functions would run, with their compare and swap, per
+  // entry): tri[p][c] = triple(a, b, c) of pair p = (a, b), pe[e][c] = pair(e, c)
+  int tri[NS][DIM], pe[DIM][DIM];
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++)
+      for (int c = 0; c < DIM; c++) tri[sym_pair_index(a, b)][c] = sym_triple_index(a, b, c);
+  for (int e = 0; e < DIM; e++)
+    for (int c = 0; c < DIM; c++) pe[e][c] = sym_pair_index(e, c);
+
   // K_(ab),(cd) = M_abcd + M_abdc (c < d) or M_abcc (c == d),
   // M_abcd = P4_abcd - W_ab,e T3_ecd;  rhs delta_ab
   double K[NS][NS];
@@ -262,11 +280,11 @@ SPHCUT_INLINE bool fmfs_system(const FmfsAccum<DIM> &acc, const double (&A)[DIM]
       for (int d = 0; d < DIM; d++)
         for (int c = 0; c <= d; c++) {
           const int q = sym_pair_index(c, d);
-          double m = acc.P4[sym_triple_index(a, b, c)][d];
-          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, c)][d];
+          double m = acc.P4[tri[p][c]][d];
+          for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[pe[e][c]][d];
           if (c != d) {
-            m += acc.P4[sym_triple_index(a, b, d)][c];
-            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[sym_pair_index(e, d)][c];
+            m += acc.P4[tri[p][d]][c];
+            for (int e = 0; e < DIM; e++) m -= W[p][e] * acc.T3[pe[e][d]][c];
           }
           K[p][q] = m;
         }
@@ -482,14 +500,14 @@ SPHCUT_INLINE double surface_lambda(const double (&B)[DIM][DIM])
     const double d = 0.5 * (B[0][0] - B[1][1]);
     return m - sqrt(d * d + bxy * bxy);
   }
-  double s[6], lam[3], q[9];
+  double s[6], lam[3];
   s[XX] = B[0][0];
   s[YY] = B[1 % DIM][1 % DIM];
   s[ZZ] = B[2 % DIM][2 % DIM];
   s[XY] = 0.5 * (B[0][1 % DIM] + B[1 % DIM][0]);
   s[XZ] = 0.5 * (B[0][2 % DIM] + B[2 % DIM][0]);
   s[YZ] = 0.5 * (B[1 % DIM][2 % DIM] + B[2 % DIM][1 % DIM]);
-  sym_eigen(s, lam, q);
+  sym_eigenvalues(s, lam);
   return fmin(lam[0], fmin(lam[1], lam[2]));
 }
 
@@ -537,8 +555,9 @@ SPHCUT_INLINE bool surface_normal(const FmfsAccum<DIM> &acc, double *n, double t
 //   B_ab   = sum s r_a r_b            gs_a    = sum s r_a
 //   Q3_abc = sum s r_a r_b r_c        T3_abc  = sum s r_a r_b r_c / r^2
 //   P4_abcd = sum s r_a r_b r_c r_d / r^2
-// all fully symmetric: 6 + 3 + 10 + 10 + 15 = 44 sums in 3D (FmfsAccum: 90), no sqrt and
-// no division per pair beyond the kernel's.  One walk over the neighbours gives the
+// all fully symmetric: 6 + 3 + 10 + 10 + 15 = 44 moments in 3D (FmfsAccum: 90), of which 9
+// follow from the others (sum_c T3_acc = gs_a, sum_c P4_abcc = B_ab): 35 sums per pair, no
+// sqrt and no division per pair beyond the kernel's.  One walk over the neighbours gives the
 // surface indicator (B, gs) and the FMFS moments; support_to_fmfs expands them into
 // FmfsAccum for fmfs_weights (equal to fmfs_add's sums up to round-off).
 
@@ -618,6 +637,27 @@ SPHCUT_INLINE int sym_quad_index(int a, int b, int c, int d)
       v[3] * (v[3] + 1) * (v[3] + 2) * (v[3] + 3) / 24;
 }
 
+// sym_quad_index(a, b, c, d) of a sorted triple a <= b <= c: d inserted, three comparisons
+SPHCUT_INLINE int sym_quad_index_sorted3(int a, int b, int c, int d)
+{
+  int v0 = a, v1 = b, v2 = c, v3 = d;
+  if (d < c) {
+    v3 = c;
+    if (d < b) {
+      v2 = b;
+      if (d < a) {
+        v1 = a;
+        v0 = d;
+      } else {
+        v1 = d;
+      }
+    } else {
+      v2 = d;
+    }
+  }
+  return v0 + v1 * (v1 + 1) / 2 + v2 * (v2 + 1) * (v2 + 2) / 6 + v3 * (v3 + 1) * (v3 + 2) * (v3 + 3) / 24;
+}
+
 // zero the surface part (B, gs) and, with fmfs, the FMFS part (Q3, T3, P4)
 template <int DIM> SPHCUT_INLINE void support_zero(SupportMoments<DIM> &m, bool fmfs)
 {
@@ -639,11 +679,16 @@ template <int DIM> SPHCUT_INLINE void support_add_surface(SupportMoments<DIM> &m
   }
 }
 
-// the FMFS part of neighbour j (r, s as above, ir2 = 1/|r|^2)
+// the FMFS part of neighbour j (r, s as above, ir2 = 1/|r|^2).  The moments with two last
+// indices equal to the last axis z (T3_azz: the last DIM triples; P4_abzz: the last NS
+// quadruples) are left out: support_to_fmfs takes them from the trace identities
+//   sum_c T3_acc = gs_a,   sum_c P4_abcc = B_ab     (r_x^2 + r_y^2 + r_z^2 = r^2)
+// (3 + 6 of the 35 FMFS sums per pair in 3D, 2 + 3 of 14 in 2D)
 template <int DIM>
 SPHCUT_INLINE void support_add_fmfs(SupportMoments<DIM> &m, const double *r, double s, double ir2)
 {
-  double m2[SupportMoments<DIM>::NS], m3[SupportMoments<DIM>::NT];
+  using SM = SupportMoments<DIM>;
+  double m2[SM::NS], m3[SM::NT];
   int p = 0;
   for (int b = 0; b < DIM; b++)
     for (int a = 0; a <= b; a++) m2[p++] = r[a] * r[b];
@@ -652,22 +697,41 @@ SPHCUT_INLINE void support_add_fmfs(SupportMoments<DIM> &m, const double *r, dou
     for (int b = 0; b <= c; b++)
       for (int a = 0; a <= b; a++) m3[t++] = r[a] * m2[b + c * (c + 1) / 2];
   const double u = s * ir2;
-  for (int k = 0; k < SupportMoments<DIM>::NT; k++) {
-    m.Q3[k] += s * m3[k];
-    m.T3[k] += u * m3[k];
-  }
+  for (int k = 0; k < SM::NT; k++) m.Q3[k] += s * m3[k];
+  for (int k = 0; k < SM::NT - DIM; k++) m.T3[k] += u * m3[k];
   int q = 0;
   for (int d = 0; d < DIM; d++)
-    for (int c = 0; c <= d; c++)
+    for (int c = 0; c <= d; c++) {
+      if (c == DIM - 1) break;    // d = c = z: the last NS quadruples
       for (int b = 0; b <= c; b++) {
         const double ub = u * r[d] * r[c] * r[b];
         for (int a = 0; a <= b; a++) m.P4[q++] += ub * r[a];
       }
+    }
 }
 
 // the FMFS moments as FmfsAccum (gT = S1 = 0: the weights need no temperatures)
 template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> &m, FmfsAccum<DIM> &acc)
 {
+  using SM = SupportMoments<DIM>;
+  // the moments support_add_fmfs leaves out, from the trace identities: T3_azz = gs_a -
+  // sum_(c<z) T3_acc, P4_abzz = B_ab - sum_(c<z) P4_abcc (in the order of the packed index, so
+  // that P4_zzzz finds the P4_cczz it needs)
+  double T3[SM::NT], P4[SM::NQ];
+  for (int k = 0; k < SM::NT - DIM; k++) T3[k] = m.T3[k];
+  for (int k = 0; k < SM::NQ - SM::NS; k++) P4[k] = m.P4[k];
+  for (int a = 0; a < DIM; a++) {
+    double v = m.gs[a];
+    for (int c = 0; c < DIM - 1; c++) v -= T3[sym_triple_index(a, c, c)];
+    T3[SM::NT - DIM + a] = v;
+  }
+  for (int b = 0; b < DIM; b++)
+    for (int a = 0; a <= b; a++) {
+      const int p = sym_pair_index(a, b);
+      double v = m.B[p];
+      for (int c = 0; c < DIM - 1; c++) v -= P4[sym_quad_index(a, b, c, c)];
+      P4[SM::NQ - SM::NS + p] = v;
+    }
   for (int a = 0; a < DIM; a++) {
     acc.gT[a] = 0.0;
     acc.gs[a] = m.gs[a];
@@ -681,16 +745,15 @@ template <int DIM> SPHCUT_INLINE void support_to_fmfs(const SupportMoments<DIM> 
       const int p = sym_pair_index(a, b);
       for (int c = 0; c < DIM; c++) {
         const int t = sym_triple_index(a, b, c);
-        acc.T3[p][c] = m.T3[t];
+        acc.T3[p][c] = T3[t];
         acc.Q3[p][c] = m.Q3[t];
       }
     }
+  int t = 0;    // = sym_triple_index(a, b, c): colex order
   for (int c = 0; c < DIM; c++)
     for (int b = 0; b <= c; b++)
-      for (int a = 0; a <= b; a++) {
-        const int t = sym_triple_index(a, b, c);
-        for (int d = 0; d < DIM; d++) acc.P4[t][d] = m.P4[sym_quad_index(a, b, c, d)];
-      }
+      for (int a = 0; a <= b; a++, t++)
+        for (int d = 0; d < DIM; d++) acc.P4[t][d] = P4[sym_quad_index_sorted3(a, b, c, d)];
 }
 
 // B of the moments as a full matrix (for surface_lambda, surface_normal, dense_inverse)

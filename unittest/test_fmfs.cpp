@@ -403,6 +403,10 @@ TEST(Fmfs, FusedSupportMomentsMatchGeneralForms)
   EXPECT_EQ(sym_quad_index(0, 0, 0, 0), 0);
   EXPECT_EQ(sym_quad_index(2, 2, 2, 2), 14);
   EXPECT_EQ(sym_quad_index(1, 0, 2, 1), sym_quad_index(0, 1, 1, 2));
+  for (int c = 0; c < 3; c++)    // the sorted-triple form agrees with the general one
+    for (int b = 0; b <= c; b++)
+      for (int a = 0; a <= b; a++)
+        for (int d = 0; d < 3; d++) EXPECT_EQ(sym_quad_index_sorted3(a, b, c, d), sym_quad_index(a, b, c, d));
 }
 
 TEST(Fmfs, CubicFieldNotExactButConsistent)

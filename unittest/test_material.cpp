@@ -250,6 +250,43 @@ TEST(RadialReturn, HardeningAndRateConsistency)
       }
 }
 
+// the starting guess (the last step's increment in the fix) changes the path, not the
+// answer: just after first yield (eps 0 or tiny, where the hardening slope is steep), on
+// the usual increments and far from the root on either side, the return satisfies the
+// consistency condition and agrees with the unguessed return to the solver's tolerance;
+// m = 1 and n = 1 (no pow) give the flow stress of the general formula
+TEST(RadialReturn, GuessChangesPathNotAnswer)
+{
+  Material mat = ti64();
+  const double dt = 5.0e-9;
+  std::mt19937 gen(16);
+  for (double n : {mat.n, 1.0})
+    for (double m : {mat.m, 1.0})
+      for (double eps : {0.0, 1.0e-8, 0.01, 0.5})
+        for (double over : {1.0001, 1.01, 1.3, 2.0})
+          for (double g : {1.0e-12, 0.5, 0.99, 1.0, 1.01, 3.0, 1.0e3}) {
+            mat.n = n;
+            mat.m = m;
+            const double T = 600.0;
+            double s[6], s0[6], sigy, sigy0;
+            const double y0 = jc_flow_stress(mat, eps, 0.0, T);
+            random_deviator(gen, over * y0, s0);
+            for (int k = 0; k < 6; k++) s[k] = s0[k];
+            const double q0 = von_mises(s0);
+            const double ref = radial_return(mat, s, eps, T, dt, &sigy0);
+            ASSERT_GT(ref, 0.0);
+            for (int k = 0; k < 6; k++) s[k] = s0[k];
+            const double deps = radial_return(mat, s, eps, T, dt, &sigy, g * ref);
+            const double sy = jc_flow_stress(mat, eps + deps, deps / dt, T);
+            EXPECT_NEAR(q0 - 3.0 * mat.G * deps, sy, 1.0e-11 * q0)
+                << "n " << n << " m " << m << " eps " << eps << " over " << over << " guess " << g;
+            EXPECT_NEAR(deps, ref, 1.0e-11 * q0 / (3.0 * mat.G));
+            EXPECT_NEAR(sigy, sigy0, 1.0e-11 * q0);
+            const double ts = (T - mat.Tref) / (mat.Tmelt - mat.Tref);
+            EXPECT_NEAR(jc_thermal_factor(mat, T), 1.0 - std::pow(ts, m), 1.0e-15);
+          }
+}
+
 // thermal softening: the same trial state flows more at a higher temperature
 TEST(RadialReturn, ThermalSofteningIncreasesPlasticStrain)
 {
@@ -559,4 +596,34 @@ TEST(Stabilisation, ArtificialStress)
   const double diag3[6] = {sig0 / 3.0, sig0 / 3.0, sig0 / 3.0, sig0 / 3.0, sig0 / 3.0, sig0 / 3.0};
   artificial_stress(eps, diag3, rho, 3, R);
   for (int k = 0; k < 6; k++) EXPECT_NEAR(R[k], a / 3.0, 1.0e-12 * fabs(a)) << k;
+}
+
+// every principal stress tensile (or zero): R = -eps sigma / rho^2, taken without the
+// eigen-decomposition; the same as the sum over the principal directions up to round-off,
+// and a state with one compressive principal stress still goes through the decomposition
+TEST(Stabilisation, ArtificialStressAllTensile)
+{
+  const double eps = 0.3, rho = 7800.0;
+  std::mt19937 gen(31);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; trial++) {
+    // sigma = Q diag(l) Q^T with a random rotation (of a random symmetric matrix) and l >= 0,
+    // one l = 0 in a quarter of the trials, and l[2] < 0 in every fourth
+    double g[6], lg[3], q[9];
+    for (int k = 0; k < 6; k++) g[k] = u(gen);
+    sym_eigen(g, lg, q);
+    double l[3] = {4.0e8 * (1.0 + u(gen)), 3.0e8 * (1.0 + u(gen)), 2.0e8 * (1.0 + u(gen))};
+    if (trial % 4 == 1) l[1] = 0.0;
+    if (trial % 4 == 3) l[2] = -l[2];
+    double sig[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    const int ia[6] = {0, 1, 2, 0, 0, 1}, ib[6] = {0, 1, 2, 1, 2, 2};
+    for (int k = 0; k < 6; k++)
+      for (int m = 0; m < 3; m++) sig[k] += q[3 * ia[k] + m] * q[3 * ib[k] + m] * l[m];
+    double R[6], ref[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    artificial_stress(eps, sig, rho, 3, R);
+    for (int k = 0; k < 6; k++)
+      for (int m = 0; m < 3; m++)
+        if (l[m] > 0.0) ref[k] -= eps * q[3 * ia[k] + m] * q[3 * ib[k] + m] * l[m] / (rho * rho);
+    for (int k = 0; k < 6; k++) EXPECT_NEAR(R[k], ref[k], 1.0e-13 * 8.0e8 * eps / (rho * rho)) << trial << " " << k;
+  }
 }

@@ -25,6 +25,7 @@ fi
 out="${OUT:-$(mktemp -d)}"
 mkdir -p "$out"
 cd "$out"
+: > results.txt    # the means are of this invocation's runs, also where $OUT is reused
 
 run_case() {    # case rep -> prints "case rep atoms steps loop_s user_s"
   local c=$1 r=$2 log="log.$1.$2"
