@@ -426,8 +426,11 @@ void FixContactTriPenalty::init()
   if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
   update_tool_velocity();
   // the spring's time step limit before the first force evaluation (fix sph/jc-thermal sets
-  // the first dt of a run in its setup, before this fix's): particles within 2h of the tool
-  // (post_force narrows it to the particles in or about to be in contact)
+  // the first dt of a run in its setup, before this fix's): the particles in or about to be in
+  // contact, by the test post_force applies (sphcut::near_contact), so that a run continued
+  // from a restart file takes the step the unsplit run took (a wider band here, all particles
+  // within 2h of the tool, gave the first step of a run continued while the tool approached
+  // the workpiece the spring's limit: the time and the first contact shifted)
   dt_crit = 1.0e300;
   {
     const sphcut::TriBinView view = bins.view();
@@ -437,10 +440,12 @@ void FixContactTriPenalty::init()
       const double h = pair->smoothing_length(it);
       const double *xi = atom->x[i];
       const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
-      double q[3];
-      int reg;
-      if (sphcut::tri_bin_nearest(view, xt, 2.0 * h, q, reg) < 0) continue;    // no facet within 2h
-      dt_crit = std::min(dt_crit, spring_dt_crit(i));
+      double d, n[3], q[3];
+      if (sphcut::tool_surface(view, xt, h, d, n, q) < 0) continue;    // no facet within 2h
+      double vr2 = 0.0;
+      for (int k = 0; k < domain->dimension; k++)
+        vr2 += (atom->v[i][k] - vtool[k]) * (atom->v[i][k] - vtool[k]);
+      if (sphcut::near_contact(d, h, sfac, sqrt(vr2), update->dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
     }
   }
   if (!vreg_set) {
