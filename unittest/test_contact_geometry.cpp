@@ -1113,3 +1113,20 @@ TEST(TriBin, SignedDistanceInsideAndOutside)
   EXPECT_NEAR(tool_signed_distance(b2d, in2, 0.05, cand), -0.1, 1e-12);
   EXPECT_NEAR(tool_signed_distance(b2d, out2, 0.05, cand), dback, 1e-12);
 }
+
+// the XSPH drift of a particle in contact loses its component along the contact normal and
+// keeps the part along the face (with the whole drift removed, the particles of the contact
+// layer could pass through one another: doc/validation.md, the 41-across cut)
+TEST(ContactDrift, NormalPartRemovedTangentialKept)
+{
+  const double c = 1.0 / sqrt(3.0);
+  const double n[3] = {c, c, c};
+  double xs[3] = {1.0, -2.0, 4.0};
+  const double before[3] = {xs[0], xs[1], xs[2]};
+  sphcut::contact_drift(xs, n);
+  EXPECT_NEAR(xs[0] * n[0] + xs[1] * n[1] + xs[2] * n[2], 0.0, 1e-15);
+  // the tangential part is unchanged: before - (before.n) n
+  const double bn = (before[0] + before[1] + before[2]) * c;
+  for (int k = 0; k < 3; k++) EXPECT_NEAR(xs[k], before[k] - bn * n[k], 1e-15);
+  EXPECT_GT(fabs(xs[1]), 1.0);    // not zeroed
+}
