@@ -135,7 +135,10 @@ PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
 
 template <class DeviceType> PairSPHJCThermalKokkos<DeviceType>::~PairSPHJCThermalKokkos()
 {
-  if (!copymode) memoryKK->destroy_kokkos(k_acc);
+  if (!copymode) {
+    memoryKK->destroy_kokkos(k_acc);
+    memoryKK->destroy_kokkos(k_lgrad);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -164,6 +167,9 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
     error->all(FLERR, "Pair sph/jc-thermal/kk: neighbor list kind {} not supported (full, half, half/thread)",
                neighflag);
   }
+  if (hourglass > 0.0 && neighflag != FULL)
+    error->all(FLERR, "Pair sph/jc-thermal/kk: hourglass {} needs the full neighbor list (package kokkos neigh full)",
+               hourglass);
   tables_ready = 0;    // init_one runs after this: the tables go to the device at the first compute
 }
 
@@ -200,6 +206,10 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       k_acc = DAT::tdual_double_2d("pair:acc", nmax_kk, sphcut::NACC);
     }
   }
+  if (hourglass > 0.0 && (int) k_lgrad.extent(0) < nmax_kk) {
+    memoryKK->destroy_kokkos(k_lgrad);
+    k_lgrad = DAT::tdual_double_2d("pair:lgrad", nmax_kk, 9);
+  }
   int any_as = 0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
@@ -213,7 +223,18 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   } else if (neighflag == FULL) {
     if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
     else neigh_pass<3, 0, 0>(inum, any_as);
-  } else {
+  }
+  if (neighflag == FULL && hourglass > 0.0) {
+    // the hourglass control (sphcut::hourglass_pair): L of the local particles from the neighbour
+    // pass, of the ghosts by forward communication, then the pairs again
+    k_lgrad.template modify<DeviceType>();
+    if (atom->nghost > 0) {
+      sphcut::forward_comm(comm, this);
+      k_lgrad.template sync<DeviceType>();
+    }
+    if (dim == 2) hourglass_pass<2>(inum);
+    else hourglass_pass<3>(inum);
+  } else if (neighflag != FULL) {
     const int newton = force->newton_pair;
     // clear the sums (ghosts too with newton: they come back by reverse communication)
     k_acc.template sync<DeviceType>();
@@ -291,6 +312,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
   auto accv = k_acc.template view<DeviceType>();
   const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
   const int nlocal = atom->nlocal;
+  const int hg = !HALF && hourglass > 0.0;
 
   Kokkos::parallel_for("sphcut:pair:neigh_pass",
       sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
@@ -321,6 +343,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
         } else {
           for (int a = 0; a < 3; a++) nv.f(i, a) += acc[sphcut::ACC_F + a];
           store_rates(nv.mt(itype), DIM, corr, acc, nv.st, i);
+          if (hg) sphcut::particle_velocity_gradient(DIM, corr, acc, &nv.lg(i, 0));
         }
       });
 }
@@ -332,7 +355,7 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
   return {atomKK->k_f.view<DeviceType>(), atomKK->k_type.view<DeviceType>(),
           fixkk->k_state.template view<DeviceType>(), d_pack, d_mat, d_tpair,
-          kl->d_neighbors, kl->d_numneigh, kl->d_ilist};
+          kl->d_neighbors, kl->d_numneigh, kl->d_ilist, k_lgrad.template view<DeviceType>()};
 }
 
 /* ----------------------------------------------------------------------
@@ -361,6 +384,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
 {
   const NeighViews nv = neigh_views();
   const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
+  const int hg = hourglass > 0.0;
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   const int lanes = on_host ? 1 : (DIM == 2 ? TEAM_LANES_2D : TEAM_LANES_3D);
   const int per_team = on_host ? 1 : TEAM_THREADS / lanes;
@@ -394,8 +418,80 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
         Kokkos::single(Kokkos::PerThread(team), [&]() {
           for (int a = 0; a < 3; a++) nv.f(i, a) += sums.v[sphcut::ACC_F + a];
           store_rates(nv.mt(itype), DIM, corr, sums.v, nv.st, i);
+          if (hg) sphcut::particle_velocity_gradient(DIM, corr, sums.v, &nv.lg(i, 0));
         });
       });
+}
+
+/* the hourglass control (keyword hourglass, sphcut::hourglass_pair; the CPU style's
+   hourglass_loop): a second pass over the full list with L of both particles; each particle
+   sums its own share (the pair's force is antisymmetric, its work symmetric), into its force
+   and its rate of u after the other rates, as on the CPU                                   */
+template <class DeviceType>
+template <int DIM>
+void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
+{
+  const NeighViews nv = neigh_views();
+  const int kind = kernel_kind, ntp = atom->ntypes + 1;
+  const double kappa = hourglass;
+  using SL = StateLayout;
+  Kokkos::parallel_for("sphcut:pair:hourglass_pass",
+      sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
+        const int i = nv.ilist(ii);
+        const double mi = nv.pk(i, PK_M);
+        if (mi == 0.0) return;    // not in the SPH solid
+        const int itype = nv.type(i);
+        sphcut::PairIn in;
+        double xi[3], vi[3], mj;
+        gather_i(nv.pk, i, 0, xi, vi, in);
+        double hi[4] = {0.0, 0.0, 0.0, 0.0};
+        const int jnum = nv.numneigh(i);
+        for (int jj = 0; jj < jnum; jj++) {
+          const int j = nv.neighbors(i, jj) & NEIGHMASK;
+          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, 0, xi, vi, in, mj)) continue;
+          double w, wfac, Mg[3], work;
+          sphcut::kernel_w_gradfac_pre(kind, sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
+          sphcut::hourglass_pair<DIM>(kappa, in, wfac, &nv.lg(i, 0), &nv.lg(j, 0), Mg, work);
+          for (int a = 0; a < DIM; a++) hi[a] += mi * mj * Mg[a];
+          hi[3] += mj * 0.5 * work;
+        }
+        for (int a = 0; a < DIM; a++) nv.f(i, a) += hi[a];
+        nv.st(i, SL::DU) += hi[3];
+      });
+}
+
+template <class DeviceType>
+int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm(int n, int *list, double *buf, int, int *)
+{
+  k_lgrad.sync_host();
+  auto h = k_lgrad.h_view;
+  int m = 0;
+  for (int ii = 0; ii < n; ii++)
+    for (int k = 0; k < 9; k++) buf[m++] = h(list[ii], k);
+  return m;
+}
+
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
+{
+  k_lgrad.sync_host();
+  auto h = k_lgrad.h_view;
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int k = 0; k < 9; k++) h(i, k) = buf[m++];
+  k_lgrad.modify_host();
+}
+
+template <class DeviceType>
+int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
+                                                                 DAT::tdual_xfloat_1d &k_buf, int, int *)
+{
+  return sphcut::pack_columns<DeviceType>(k_lgrad, 0, 9, n, k_sendlist, iswap, k_buf);
+}
+
+template <class DeviceType>
+void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
+{
+  sphcut::unpack_columns<DeviceType>(k_lgrad, 0, 9, n, first, k_buf);
 }
 
 // per particle after the half-list sums: the rates
@@ -440,7 +536,7 @@ void PairSPHJCThermalKokkos<DeviceType>::unpack_reverse_comm(int n, int *list, d
 
 template <class DeviceType> double PairSPHJCThermalKokkos<DeviceType>::memory_usage()
 {
-  return (double) nmax_kk * (NPK + (neighflag == FULL ? 0 : sphcut::NACC)) * sizeof(double);
+  return (double) nmax_kk * (NPK + (neighflag == FULL ? 0 : sphcut::NACC) + (hourglass > 0.0 ? 9 : 0)) * sizeof(double);
 }
 
 namespace LAMMPS_NS {

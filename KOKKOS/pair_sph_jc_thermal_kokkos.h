@@ -21,6 +21,7 @@ PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
 #ifndef LMP_PAIR_SPH_JC_THERMAL_KOKKOS_H
 #define LMP_PAIR_SPH_JC_THERMAL_KOKKOS_H
 
+#include "kokkos_base.h"
 #include "kokkos_type.h"
 #include "pair_sph_jc_thermal.h"
 
@@ -28,7 +29,7 @@ namespace LAMMPS_NS {
 
 class FixSPHJCThermalKokkosBase;
 
-template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCThermal {
+template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCThermal, public KokkosBase {
  public:
   typedef DeviceType device_type;
   typedef ArrayTypes<DeviceType> AT;
@@ -41,12 +42,19 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   void init_style() override;
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
+  // the hourglass control's L of the ghosts: forward communication on the host (the classic
+  // path LAMMPS takes here) or on the device
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_forward_comm_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
+  void unpack_forward_comm_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
   double memory_usage() override;
 
   // the passes (public: they launch device lambdas)
   void stress_pass(int nall, int any_as);
   template <int DIM, int HALF, int NEWTON> void neigh_pass(int inum, int any_as);
   template <int DIM> void neigh_pass_team(int inum, int any_as);
+  template <int DIM> void hourglass_pass(int inum);
   // the team path (neigh_pass_team): particles for which it is the default on a GPU, lanes per
   // particle, threads per team
   enum { TEAM_AUTO_MAX = 8192, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
@@ -59,6 +67,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
     t_tpair tpt;
     typename AT::t_neighbors_2d neighbors;
     typename AT::t_int_1d numneigh, ilist;
+    typename AT::t_double_2d lg;    // hourglass control: L per particle (row major, 9); empty without
   };
   NeighViews neigh_views();
   void rates_pass(int nlocal);
@@ -72,6 +81,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
   typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost
   DAT::tdual_double_2d k_acc;                   // neighbour sums (half lists only)
+  DAT::tdual_double_2d k_lgrad;                 // hourglass control: L, local + ghost (full lists only)
   void upload_tables();
 };
 

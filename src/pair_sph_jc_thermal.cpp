@@ -328,9 +328,6 @@ void PairSPHJCThermal::init_style()
       fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
   if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
   fix->attach(this);
-  if (hourglass > 0.0 && kokkosable)
-    error->all(FLERR, "Pair sph/jc-thermal/kk: hourglass {} is not supported under /kk yet (use the CPU style)",
-               hourglass);
   if (hourglass > 0.0 && !correction)
     error->all(FLERR, "Pair sph/jc-thermal: hourglass {} needs correction yes (the linear-field prediction "
                "uses the renormalised velocity gradient)", hourglass);

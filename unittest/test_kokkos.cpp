@@ -62,6 +62,44 @@ TEST(Kokkos, TeamNeighbourPassMatchesCpu)
   expect_same(run({}, "on", 3, 100), run(team, "off", 3, 100), "kk team 3D");
 }
 
+// the hourglass control (pair_style ... hourglass kappa) under /kk: full list (thread and team
+// passes) against the CPU style, 2D and 3D; on 2 ranks the ghosts' L comes by forward
+// communication on the device.  A half list is refused.
+TEST(Kokkos, HourglassControlMatchesCpu)
+{
+  auto run_hg = [](const std::vector<std::string> &args, const std::string &newton, int dim) {
+    Lammps l(MPI_COMM_WORLD, args);
+    auto c = collision(newton, dim);
+    for (auto &line : c)
+      if (line == "pair_style sph/jc-thermal") line = "pair_style sph/jc-thermal hourglass 0.5";
+    l.cmds(c);
+    l.cmd("run 100");
+    return take(l);
+  };
+  std::vector<std::string> team = KK_FULL;
+  for (const char *a : {"neigh/thread", "on"}) team.push_back(a);
+  for (int dim : {2, 3}) {
+    const Snapshot cpu = run_hg({}, "on", dim);
+    expect_same(cpu, run_hg(KK_FULL, "off", dim), dim == 2 ? "kk hourglass 2D" : "kk hourglass 3D");
+    expect_same(cpu, run_hg(team, "off", dim), dim == 2 ? "kk team hourglass 2D" : "kk team hourglass 3D");
+    // the control acts: without it the state differs by far more than the tolerance
+    const Snapshot plain = run({}, "on", dim, 100);
+    const int ncol = LAMMPS_NS::FixSPHJCThermal::NOUT, c = LAMMPS_NS::FixSPHJCThermal::SXX;
+    double diff = 0.0, scale = 0.0;
+    for (size_t i = 0; i < cpu.state.size() / ncol; i++) {
+      diff = std::max(diff, fabs(cpu.state[i * ncol + c] - plain.state[i * ncol + c]));
+      scale = std::max(scale, fabs(cpu.state[i * ncol + c]));
+    }
+    EXPECT_GT(diff, 1e-6 * scale) << "the hourglass control changes the stress";
+  }
+  Lammps l(MPI_COMM_WORLD, KK_HALF);
+  auto c = collision("on");
+  for (auto &line : c)
+    if (line == "pair_style sph/jc-thermal") line = "pair_style sph/jc-thermal hourglass 0.5";
+  l.cmds(c);
+  EXPECT_TRUE(l.error_contains("run 0", "hourglass 0.5 needs the full neighbor list"));
+}
+
 TEST(Kokkos, HalfListNewtonOnMatchesCpu2D)
 {
   expect_same(run({}, "on", 2, 100), run(KK_HALF, "on", 2, 100), "kk half");
