@@ -147,14 +147,15 @@ watch() {
 
 # MPI scaling of the CPU styles on the device machine's cores (issue 14): the 2D cut at each
 # of SCALE_NY (default 41 81) across, the tool in contact from the start (xstart 0.6), SCALE_STEPS
-# steps (default 400) on 1, 2, 4, 8, 16 ranks; parallel efficiency t1 / (N tN) of the loop time
+# steps (default 400) on 1, 2, 4, 8, 16 ranks; parallel efficiency t1 / (N tN) of the loop time;
+# SCALE_LB=rcb: the example's -var balance rcb instead of shift
 scale() {
   mkdir -p $W/scale; cd $W/scale
   local ny np
   for ny in ${SCALE_NY:-41 81}; do
     local t1=""
     for np in 1 2 4 8 16; do
-      timeout 200 mpirun -np $np "$BIN" -in "$EX2" -var ny $ny -var xstart 0.6 -var steps ${SCALE_STEPS:-400} \
+      timeout 200 mpirun -np $np "$BIN" -in "$EX2" -var ny $ny -var xstart 0.6 -var steps ${SCALE_STEPS:-400} -var balance ${SCALE_LB:-shift} \
         -var thermoevery 100 -var printevery 100 -var dumpevery 0 -log log.$ny.$np > screen.$ny.$np 2>&1 || tail -3 screen.$ny.$np
       local t; t=$(awk '/^Loop time/{t=$4} END{print t}' log.$ny.$np)
       [ -z "$t1" ] && t1=$t
