@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Quick version of the 2D Ti6Al4V cut (make example): NY particles across the height
 # (default 11), CUT cut length in m (default 0.3e-3), NP MPI ranks (default: all cores), HDX
-# h/dx (default 1.3 below 41 across, 1.5 from 41 across: with 1.3 the 41-across cut ran away
-# after 0.25-0.56 mm, see README.md).  The full case of the paper: NY=41 CUT=2e-3.  Run from an
+# h/dx (default auto: the input's 1.3 below 41 across, 1.5 from 41 across; with 1.3 the
+# 41-across cut ran away after 0.25-0.56 mm, see README.md).  The full case of the paper: NY=41 CUT=2e-3.  Run from an
 # output folder.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 : "${LMP:?source build/env.sh first}"
 NY="${NY:-11}"; CUT="${CUT:-0.3e-3}"; NP="${NP:-$(nproc)}"
-HDX="${HDX:-$([ "$NY" -ge 41 ] && echo 1.5 || echo 1.3)}"
+HDX="${HDX:-auto}"
 mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut "$CUT" -var hdx "$HDX" -var dumpevery 1000 -var thermoevery 4000 \
   -log log.cutting | awk '/^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time/{print}'
 # Debian's python3 has numpy and matplotlib (tools/build-deps.sh installs them)
