@@ -9,12 +9,10 @@ mean over the frames after FIRST_STEP:
                   (not in contact, above the tool tip), and for the whole workpiece.
 Usage: interface_power.py DUMP [NY (11)] [FIRST_STEP (20000)] [VC m/min (318.5)]"""
 import math
-import os
 import statistics
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "gpu"))
-from watch import snapshots  # noqa: E402
+from hourglass import read_frames    # the dump reader of this folder
 
 
 def main():
@@ -24,26 +22,26 @@ def main():
     vc = (float(sys.argv[4]) if len(sys.argv) > 4 else 318.5) / 60.0
     dx, rho0, ytip = 0.3e-3 / (ny - 1), 4430.0, 0.2e-3
     rows = []
-    for step, cols, atoms in snapshots(path):
-        ix = {k: i for i, k in enumerate(cols)}
-        tool = [a for a in atoms if a[ix["type"]] == 2]
+    for step, f in read_frames(path):
+        tool = [k for k, t in enumerate(f["type"]) if t == 2]
         if step < first or not tool:
             continue
-        xrake = min(a[ix["x"]] for a in tool)
+        xrake = min(f["x"][k] for k in tool)
         fric = layer = nextl = total = 0.0
         ncont = 0
-        for a in atoms:
-            if a[ix["type"]] != 1:
+        for k, t in enumerate(f["type"]):
+            if t != 1:
                 continue
-            power = a[ix["vonmises"]] * a[ix["plastic_strain_rate"]] * rho0 * dx * dx / a[ix["density"]]
+            power = f["vonmises"][k] * f["plastic_strain_rate"][k] * rho0 * dx * dx / f["density"][k]
             total += power
-            feat = int(a[ix["contact_feature"]])
+            feat = int(f["contact_feature"][k])
             if feat > 0:
-                slide = abs(a[ix["vy"]]) if feat == 1 else math.hypot(a[ix["vx"]] + vc, a[ix["vy"]])
-                fric += a[ix["fcontact_t"]] * slide
+                vx, vy = f["vx"][k], f["vy"][k]
+                slide = abs(vy) if feat == 1 else math.hypot(vx + vc, vy)
+                fric += f["fcontact_t"][k] * slide
                 layer += power
                 ncont += 1
-            elif xrake - 2.0 * dx < a[ix["x"]] < xrake and a[ix["y"]] > ytip - 0.5 * dx:
+            elif xrake - 2.0 * dx < f["x"][k] < xrake and f["y"][k] > ytip - 0.5 * dx:
                 nextl += power
         rows.append((fric, layer, nextl, total, ncont))
     if not rows:
