@@ -151,17 +151,13 @@ template <class DeviceType> struct ContactKernel {
     if (best < 0) return;
     const double mi = use_rmass ? rmass(i) : mass(it);
     const double dpi = dp(it) > 0.0 ? dp(it) : hi / sfac;
-    {
-      double vr2 = 0.0;
-      for (int k = 0; k < dim; k++) vr2 += (v(i, k) - vtool[k]) * (v(i, k) - vtool[k]);
-      if (sphcut::near_contact(in.d, hi, sfac, sqrt(vr2), dt)) {
-        const double kk = sphcut::penalty_stiffness(mat(it).E, etool, dpi, pfac, dim);
-        const double d = sphcut::penalty_dt_limit(kk, mi, dfac, 1.0);
-        if (d < r[R_DTCRIT]) r[R_DTCRIT] = d;
-      }
+    double vuse[3] = {v(i, 0), v(i, 1), v(i, 2)};
+    if (sphcut::near_contact(in.d, hi, sfac, vuse, vtool, dim, dt)) {
+      const double kk = sphcut::penalty_stiffness(mat(it).E, etool, dpi, pfac, dim);
+      const double d = sphcut::penalty_dt_limit(kk, mi, dfac, 1.0);
+      if (d < r[R_DTCRIT]) r[R_DTCRIT] = d;
     }
     if (0.5 * hi / sfac - in.d <= 0.0) return;
-    double vuse[3] = {v(i, 0), v(i, 1), v(i, 2)};
     const bool repeat =
         setup && vc[3] > 0.0 && v(i, 0) == s[F::VEND] && v(i, 1) == s[F::VEND + 1] && v(i, 2) == s[F::VEND + 2];
     if (repeat)

@@ -442,10 +442,8 @@ void FixContactTriPenalty::init()
       const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
       double d, n[3], q[3];
       if (sphcut::tool_surface(view, xt, h, d, n, q) < 0) continue;    // no facet within 2h
-      double vr2 = 0.0;
-      for (int k = 0; k < domain->dimension; k++)
-        vr2 += (atom->v[i][k] - vtool[k]) * (atom->v[i][k] - vtool[k]);
-      if (sphcut::near_contact(d, h, sfac, sqrt(vr2), update->dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
+      if (sphcut::near_contact(d, h, sfac, atom->v[i], vtool, domain->dimension, update->dt))
+        dt_crit = std::min(dt_crit, spring_dt_crit(i));
     }
   }
   if (!vreg_set) {
@@ -658,11 +656,7 @@ void FixContactTriPenalty::post_force(int)
     if (best < 0) continue;
     const double mi = rmass ? rmass[i] : mass[it];
     const double dpi = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
-    {
-      double vr2 = 0.0;
-      for (int k = 0; k < dim; k++) vr2 += (atom->v[i][k] - vtool[k]) * (atom->v[i][k] - vtool[k]);
-      if (sphcut::near_contact(in.d, h, sfac, sqrt(vr2), dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
-    }
+    if (sphcut::near_contact(in.d, h, sfac, atom->v[i], vtool, dim, dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
     if (0.5 * h / sfac - in.d <= 0.0) continue;
     // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
     // run (restart, or a second run with unchanged velocities) the one of the last step

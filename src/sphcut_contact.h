@@ -686,10 +686,14 @@ SPHCUT_INLINE void memory_friction_input(const double *fm, bool step, bool repea
 }
 
 /* the penalty spring limits the time step of a particle in contact or about to be: within 10
-   steps at its speed vrel relative to the tool (the next step may be ~3x longer) plus h/100 */
-SPHCUT_INLINE bool near_contact(double d, double h, double sfac, double vrel, double dt)
+   steps at its speed relative to the tool, |v - vtool| (dim components; the next step may be
+   ~3x longer), plus h/100 */
+SPHCUT_INLINE bool near_contact(double d, double h, double sfac, const double *v, const double *vtool, int dim,
+                                double dt)
 {
-  return d < 0.5 * h / sfac + 10.0 * vrel * dt + 0.01 * h;
+  double vr2 = 0.0;
+  for (int k = 0; k < dim; k++) vr2 += (v[k] - vtool[k]) * (v[k] - vtool[k]);
+  return d < 0.5 * h / sfac + 10.0 * sqrt(vr2) * dt + 0.01 * h;
 }
 
 /* friction coefficient from a table mu(T) (n points, T ascending), clamped at the ends */

@@ -53,5 +53,5 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   memory_friction_step(s);
   penalty_contact(ci, co);
   out[4] = decompose_contact(co, n, acc) + mu_table(r, gg, 2, 300.0) + penalty_dt_limit(1, 1, 0.1, 1) +
-           kernel_w(0, 3, 0.5, 1.0) + near_contact(d, 1, 1.2, 1, 1e-9) + dirichlet_index(1, 1, &e, 1);
+           kernel_w(0, 3, 0.5, 1.0) + near_contact(d, 1, 1.2, v, v, 3, 1e-9) + dirichlet_index(1, 1, &e, 1);
 }
