@@ -217,24 +217,26 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   fixkk->k_state.template sync<DeviceType>();
   stress_pass(nall, any_as);
   const int inum = list->inum;
-  if (neighflag == FULL && use_team(inum)) {
-    if (dim == 2) neigh_pass_team<2>(inum, any_as);
-    else neigh_pass_team<3>(inum, any_as);
-  } else if (neighflag == FULL) {
-    if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
-    else neigh_pass<3, 0, 0>(inum, any_as);
-  }
-  if (neighflag == FULL && hourglass > 0.0) {
-    // the hourglass control (sphcut::hourglass_pair): L of the local particles from the neighbour
-    // pass, of the ghosts by forward communication, then the pairs again
-    k_lgrad.template modify<DeviceType>();
-    if (atom->nghost > 0) {
-      sphcut::forward_comm(comm, this);
-      k_lgrad.template sync<DeviceType>();
+  if (neighflag == FULL) {
+    if (use_team(inum)) {
+      if (dim == 2) neigh_pass_team<2>(inum, any_as);
+      else neigh_pass_team<3>(inum, any_as);
+    } else {
+      if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
+      else neigh_pass<3, 0, 0>(inum, any_as);
     }
-    if (dim == 2) hourglass_pass<2>(inum);
-    else hourglass_pass<3>(inum);
-  } else if (neighflag != FULL) {
+    if (hourglass > 0.0) {
+      // the hourglass control (sphcut::hourglass_pair): L of the local particles from the
+      // neighbour pass, of the ghosts by forward communication, then the pairs again
+      k_lgrad.template modify<DeviceType>();
+      if (atom->nghost > 0) {
+        sphcut::forward_comm(comm, this);
+        k_lgrad.template sync<DeviceType>();
+      }
+      if (dim == 2) hourglass_pass<2>(inum);
+      else hourglass_pass<3>(inum);
+    }
+  } else {
     const int newton = force->newton_pair;
     // clear the sums (ghosts too with newton: they come back by reverse communication)
     k_acc.template sync<DeviceType>();

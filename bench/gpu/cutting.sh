@@ -69,14 +69,11 @@ rate2d() {
   cd "$ROOT"
 }
 
-# h/dx of the 2D cut: HDX, else the example's auto (1.3 below 41 across, 1.5 from 41 across: with
-# 1.3 the 41-across cut ran away after 0.25-0.56 mm: watch below, doc/validation.md)
-hdx_for() { echo "${HDX:-auto}"; }
-
 # the 2D cut at NY across over CUT of cut, in segments that fit the device tool's calls: with
 # CUT_END (the epoch second the call must end by) the run stops in time and writes
 # restart.cutting; the next call continues it (from /tmp/cut on a warm machine, else from
-# .carry/cut2d-NY/, the files a previous call left in $OUT/cut2d-NY/)
+# .carry/cut2d-NY/, the files a previous call left in $OUT/cut2d-NY/); HDX: h/dx (default the
+# example's auto: 1.5 from 41 across)
 cut2d() {
   local ny=${NY:-41} cut=${CUT:-2e-3} cont=0 wall=0; local d=$W/cut2d-$ny
   mkdir -p $d; cd $d
@@ -87,7 +84,7 @@ cut2d() {
   local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
   local t0; t0=$(date +%s)
   timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
-    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx $(hdx_for $ny) \
+    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx ${HDX:-auto} \
     -log log.seg$seg > screen 2>&1 || tail -3 screen
   say "cut2d ny $ny cut $cut, segment $seg (continue $cont, walltime $wall): $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.seg$seg | tail -1)"
   say "  $(tail -1 forces.dat)"
