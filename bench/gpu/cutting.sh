@@ -82,24 +82,25 @@ rate2d() {
 # CUT_END (the epoch second the call must end by) the run stops in time and writes
 # restart.cutting; the next call continues it (from /tmp/cut on a warm machine, else from
 # .carry/cut2d-NY/, the files a previous call left in $OUT/cut2d-NY/); HDX: h/dx (default the
-# example's auto: 1.5 from 41 across)
+# example's auto: 1.5 from 41 across); CUT_ARGS: more -var settings (e.g. "-var dtfac 0.5"), CUT_TAG:
+# a suffix of the run's folder (cut2d-NY<tag>) to keep such a run apart
 cut2d() {
-  local ny=${NY:-41} cut=${CUT:-2e-3} cont=0 wall=0; local d=$W/cut2d-$ny
+  local ny=${NY:-41} cut=${CUT:-2e-3} cont=0 wall=0; local tag=cut2d-$ny${CUT_TAG:-}; local d=$W/$tag
   mkdir -p $d; cd $d
   if [ -f restart.cutting ]; then cont=1
-  elif [ -f "$ROOT/.carry/cut2d-$ny/restart.cutting" ]; then cp "$ROOT/.carry/cut2d-$ny/"* . && cont=1; fi
+  elif [ -f "$ROOT/.carry/$tag/restart.cutting" ]; then cp "$ROOT/.carry/$tag/"* . && cont=1; fi
   [ -n "${CUT_END:-}" ] && wall=$(( CUT_END - $(date +%s) - 40 ))
   [ "$wall" -lt 0 ] && { say "cut2d ny $ny: no time left in this call"; cd "$ROOT"; return 0; }
   local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
   local t0; t0=$(date +%s)
   timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
-    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx ${HDX:-auto} \
+    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx ${HDX:-auto} ${CUT_ARGS:-} \
     -log log.seg$seg > screen 2>&1 || tail -3 screen
-  say "cut2d ny $ny cut $cut, segment $seg (continue $cont, walltime $wall): $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.seg$seg | tail -1)"
+  say "cut2d ny $ny cut $cut ${CUT_ARGS:-}, segment $seg (continue $cont, walltime $wall): $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.seg$seg | tail -1)"
   say "  $(tail -1 forces.dat)"
   say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
-  mkdir -p "$OUT/cut2d-$ny" && cp forces.dat log.seg* "$OUT/cut2d-$ny/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/cut2d-$ny/"; }
+  mkdir -p "$OUT/$tag" && cp forces.dat log.seg* "$OUT/$tag/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/$tag/"; }
   cd "$ROOT"
 }
 
