@@ -646,21 +646,46 @@ SPHCUT_INLINE void contact_drift(double *xsph, const double *n)
   for (int k = 0; k < 3; k++) xsph[k] -= dn * n[k];
 }
 
-/* a contact's share of the decomposition by tool feature (fix contact/tri-penalty vector 16-47):
-   dc[0..1] normal force on the tool x y, dc[2..3] friction force on the tool x y, dc[4] contacts,
-   dc[5] sum F_N, dc[6] sum |F_T|, dc[7] contacts at the Coulomb limit; returns |F_T| */
-SPHCUT_INLINE double decompose_contact(const ContactOut &out, const double *n, double *dc)
+/* the decomposition by tool feature (fix contact/tri-penalty vector 16-47), in two parts so that
+   the sums can be formed later from stored contacts (fix contact/tri-penalty/kk forms them only
+   when they are read):
+   contact_record keeps what the decomposition needs of one contact, rec[DREC_*]: the normal force
+   on the tool x y, the friction force on the tool x y, F_N, |F_T|, 1 at the Coulomb limit;
+   decompose_record adds a record to the feature's sums dc: dc[0..1] normal force on the tool x y,
+   dc[2..3] friction force on the tool x y, dc[4] contacts, dc[5] sum F_N, dc[6] sum |F_T|,
+   dc[7] contacts at the Coulomb limit */
+enum { DREC_NX = 0, DREC_NY, DREC_TX, DREC_TY, DREC_FN, DREC_FT, DREC_SLIP, NDREC };
+
+SPHCUT_INLINE void contact_record(const ContactOut &out, const double *n, double *rec)
 {
-  const double ftm = len3(out.ft);
   for (int k = 0; k < 2; k++) {
-    dc[k] -= out.fn * n[k];
-    dc[2 + k] -= out.ft[k];
+    rec[DREC_NX + k] = -out.fn * n[k];
+    rec[DREC_TX + k] = -out.ft[k];
+  }
+  rec[DREC_FN] = out.fn;
+  rec[DREC_FT] = len3(out.ft);
+  rec[DREC_SLIP] = out.slip;
+}
+
+SPHCUT_INLINE void decompose_record(const double *rec, double *dc)
+{
+  for (int k = 0; k < 2; k++) {
+    dc[k] += rec[DREC_NX + k];
+    dc[2 + k] += rec[DREC_TX + k];
   }
   dc[4] += 1.0;
-  dc[5] += out.fn;
-  dc[6] += ftm;
-  dc[7] += out.slip;
-  return ftm;
+  dc[5] += rec[DREC_FN];
+  dc[6] += rec[DREC_FT];
+  dc[7] += rec[DREC_SLIP];
+}
+
+/* a contact's share of the decomposition (the two above at once); returns |F_T| */
+SPHCUT_INLINE double decompose_contact(const ContactOut &out, const double *n, double *dc)
+{
+  double rec[NDREC];
+  contact_record(out, n, rec);
+  decompose_record(rec, dc);
+  return rec[DREC_FT];
 }
 
 /* the per-particle state of friction with memory, fm[0..2] the friction force of the particle's
