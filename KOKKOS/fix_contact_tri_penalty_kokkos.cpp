@@ -15,6 +15,9 @@
    The host gets the sums of kernel 1 (tool force, work, dissipation,
    friction power, contact count, deepest penetration, heat booked, the
    spring's dt limit) and updates the tool's position and velocity.
+   Kernel 1 also leaves a record of each contact (sphcut::contact_record);
+   the decomposition by tool feature (vector 16-47) is summed from them by
+   a third kernel only when a consumer reads it (decomposition()).
 ------------------------------------------------------------------------- */
 
 #include "fix_contact_tri_penalty_kokkos.h"
@@ -37,6 +40,7 @@
 #include "sphcut_kernels.h"
 #include "sphcut_kokkos.h"
 
+#include <algorithm>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -44,12 +48,14 @@ using namespace FixConst;
 
 namespace {
 
-// the sums of the contact kernel: R_SUM.. are added, R_MAXPEN maximised, R_DTCRIT minimised
-// R_DECOMP..: the decomposition by tool feature (FixContactTriPenalty::decomp, NFEAT x NDECOMP)
+// the sums of the contact kernel (a short list: each GPU thread keeps them in shared memory):
+// R_FX.. are added, R_MAXPEN maximised, R_DTCRIT minimised.  R_TWORK and R_DISS hold both rates
+// of the step's trapezoid, the previous contact force's and this one's (the host needs only
+// their sum).  The decomposition by tool feature is not among them: each contact leaves a
+// record (d_rec), summed when the vector is read (decomposition())
 enum {
-  R_FX = 0, R_FY, R_FZ, R_WORK, R_DISS, R_FRIC, R_NCONT, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC,
-  R_WOLD, R_DOLD, R_DECOMP, R_MAXPEN = R_DECOMP + FixContactTriPenalty::NFEAT * FixContactTriPenalty::NDECOMP,
-  R_DTCRIT, NRED
+  R_FX = 0, R_FY, R_FZ, R_TWORK, R_DISS, R_FRIC, R_NCONT, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC,
+  R_MAXPEN, R_DTCRIT, NRED
 };
 
 // the device accumulators after the NRED sums of the last step (FixContactTriPenaltyKokkos::d_sums):
@@ -84,6 +90,11 @@ template <class DeviceType> struct ContactKernel {
   Kokkos::View<double *, mem> sums;    // NRED sums of this step, then the NACCUM accumulators
   typename AT::t_double_1d dtlim;      // the spring's dt limit for fix sph/jc-thermal/kk (k_dtlim)
   double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
+  // one record per contact (sphcut::contact_record, then the feature), in the order the contacts
+  // take a slot from the counter nrec(cur); nrec(1 - cur) is cleared for the next step
+  Kokkos::View<double *[sphcut::NDREC + 1], mem> rec;
+  Kokkos::View<int *, mem> nrec;
+  int cur;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -106,10 +117,11 @@ template <class DeviceType> struct ContactKernel {
     sums(NRED + A_QSRC) += r[R_QSRC];
     sums(NRED + A_QLUMP) += r[R_QLUMP];
     if (!setup) {
-      sums(NRED + A_TWORK) += 0.5 * dt * (r[R_WOLD] + r[R_WORK]);
-      sums(NRED + A_DISS) += 0.5 * dt * (r[R_DOLD] + r[R_DISS]);
+      sums(NRED + A_TWORK) += 0.5 * dt * r[R_TWORK];
+      sums(NRED + A_DISS) += 0.5 * dt * r[R_DISS];
     }
     dtlim(0) = r[R_DTCRIT] < 1.0e300 ? dtscale * r[R_DTCRIT] : 1.0e300;
+    nrec(1 - cur) = 0;
   }
 
   // heat (energy/time) into particle i's temperature rate, as FixHeatFMFS::add_heat; true if taken
@@ -127,11 +139,14 @@ template <class DeviceType> struct ContactKernel {
     using F = FixSPHJCThermal;
     double *s = &state(i, 0);
     double *fc = s + F::FCONT, *vc = s + F::VCONT, *fm = s + F::FMEM;
-    for (int k = 0; k < dim; k++) {
-      r[R_WOLD] += fc[k] * vtool[k];
-      r[R_DOLD] += fc[k] * (vtool[k] - v(i, k));
+    // the previous step's contact force (only particles that were in contact have one)
+    if (fc[0] != 0.0 || fc[1] != 0.0 || fc[2] != 0.0) {
+      for (int k = 0; k < dim; k++) {
+        r[R_TWORK] += fc[k] * vtool[k];
+        r[R_DISS] += fc[k] * (vtool[k] - v(i, k));
+      }
+      fc[0] = fc[1] = fc[2] = 0.0;
     }
-    fc[0] = fc[1] = fc[2] = 0.0;
     for (int k = 0; k < 6; k++) fout(i, k) = 0.0;
     qtw(i, 0) = 0.0;
     if (!setup) {
@@ -181,11 +196,17 @@ template <class DeviceType> struct ContactKernel {
     if (fmemory && !setup)
       for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
     {
-      // decomposition by the tool feature of the nearest element (forces on the tool)
+      // the record of the decomposition by the tool feature of the nearest element
       const int feat = feature(best);
-      const double ftm = sphcut::decompose_contact(out, in.n, r + R_DECOMP + feat * FixContactTriPenalty::NDECOMP);
+      double dr[sphcut::NDREC];
+      sphcut::contact_record(out, in.n, dr);
+      const int slot = Kokkos::atomic_fetch_add(&nrec(cur), 1);
+      if (slot < (int) rec.extent(0)) {    // (always: one slot per local particle)
+        for (int k = 0; k < sphcut::NDREC; k++) rec(slot, k) = dr[k];
+        rec(slot, sphcut::NDREC) = feat;
+      }
       fout(i, 3) = out.fn;
-      fout(i, 4) = ftm;
+      fout(i, 4) = dr[sphcut::DREC_FT];
       fout(i, 5) = feat + 1;
     }
     const double pen = out.delta / (0.5 * hi / sfac);
@@ -196,7 +217,7 @@ template <class DeviceType> struct ContactKernel {
       fc[k] = out.f[k];
       fout(i, k) = out.f[k];
       r[R_FX + k] -= out.f[k];
-      r[R_WORK] += out.f[k] * vtool[k];
+      r[R_TWORK] += out.f[k] * vtool[k];
       r[R_DISS] += out.f[k] * (vtool[k] - v(i, k));
     }
     r[R_FRIC] += out.fric_power;
@@ -239,6 +260,33 @@ template <class DeviceType> struct ContactKernel {
     } else {
       r[R_QLOST] += qt * acc;
     }
+  }
+};
+
+// the decomposition by tool feature (FixContactTriPenalty::decomp, NFEAT x NDECOMP) from the
+// records of the contact kernel
+template <class DeviceType> struct DecompKernel {
+  typedef DeviceType device_type;
+  typedef double value_type[];
+  typedef typename DeviceType::memory_space mem;
+  enum { NFEAT = FixContactTriPenalty::NFEAT, NDECOMP = FixContactTriPenalty::NDECOMP };
+  const unsigned value_count = NFEAT * NDECOMP;
+  Kokkos::View<const double *[sphcut::NDREC + 1], mem> rec;
+
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  {
+    for (int k = 0; k < NFEAT * NDECOMP; k++) r[k] = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  {
+    for (int k = 0; k < NFEAT * NDECOMP; k++) d[k] += s[k];
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int c, value_type r) const
+  {
+    double dr[sphcut::NDREC];
+    for (int k = 0; k < sphcut::NDREC; k++) dr[k] = rec(c, k);
+    const int feat = (int) rec(c, sphcut::NDREC);
+    sphcut::decompose_record(dr, r + feat * NDECOMP);
   }
 };
 
@@ -424,6 +472,11 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
     h_sums = Kokkos::create_mirror_view(d_sums);
   }
   k.sums = d_sums;
+  if ((int) d_rec.extent(0) < atom->nmax) d_rec = decltype(d_rec)("contact:rec", atom->nmax);
+  if ((int) d_nrec.extent(0) != 2) d_nrec = Kokkos::View<int *, mem>("contact:nrec", 2);    // zeroed
+  k.rec = d_rec;
+  k.nrec = d_nrec;
+  k.cur = rec_cur;
   k.dtlim = fixkk->k_dtlim.template view<DeviceType>();
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
@@ -437,6 +490,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k_fout.template modify<DeviceType>();
   atomKK->modified(execution_space, F_MASK);
   stale = 1;
+  decomp_stale = 1;
+  rec_cur = 1 - rec_cur;
   if (tool_particles && heat) {
     sphcut::forward_comm(comm, this);
     tool_heat_gather();
@@ -452,11 +507,9 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
   stale = 0;
   Kokkos::deep_copy(h_sums, d_sums);
   const double *r = h_sums.data(), *a = r + NRED;
-  for (int ft = 0; ft < NFEAT; ft++)
-    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = r[R_DECOMP + ft * NDECOMP + c];
   for (int d = 0; d < 3; d++) ftool[d] = r[R_FX + d];
-  work_rate = r[R_WORK];
-  diss_rate = r[R_DISS];
+  // work_rate and diss_rate (this step's rates alone) stay on the device, in the sums of the
+  // trapezoid with the previous step's: only tool_work and contact_diss are used
   fric_power = r[R_FRIC];
   ncontact = (int) r[R_NCONT];
   maxpen = r[R_MAXPEN];
@@ -475,9 +528,28 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
   Kokkos::deep_copy(Kokkos::subview(d_sums, std::make_pair((int) NRED, (int) (NRED + NACCUM))), 0.0);
 }
 
+/* the decomposition by tool feature of the last contact evaluation (decomp), summed from its
+   records when it is read: once per evaluation.  The records do not belong to atoms, so they
+   stay valid when atoms move between ranks or are sorted, and between runs. */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::decomposition()
+{
+  if (!decomp_stale) return;
+  fetch();    // ncontact: the number of records
+  decomp_stale = 0;
+  for (int ft = 0; ft < NFEAT; ft++)
+    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
+  const int n = std::min(ncontact, (int) d_rec.extent(0));
+  if (n <= 0) return;
+  DecompKernel<DeviceType> k;
+  k.rec = d_rec;
+  Kokkos::View<double *, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> res(&decomp[0][0], NFEAT * NDECOMP);
+  Kokkos::parallel_reduce("sphcut:contact:decomposition", sphcut::range<DeviceType>(0, n), k, res);
+}
+
 template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::compute_vector(int n)
 {
   fetch();
+  if (n >= 15) decomposition();
   return FixContactTriPenalty::compute_vector(n);
 }
 
