@@ -328,17 +328,62 @@ TEST(Kokkos, ClearErrors)
 
 namespace {
 
+// rows of exactly ncols numbers (other lines: headers, comments, LAMMPS messages, are skipped)
+std::vector<std::vector<double>> numeric_rows(const std::string &file, size_t ncols)
+{
+  std::ifstream in(file);
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream ls(line);
+    std::vector<double> v;
+    std::string tok;
+    bool ok = true;
+    while (ok && ls >> tok) {
+      char *end = nullptr;
+      const double d = strtod(tok.c_str(), &end);
+      ok = end && *end == '\0' && end != tok.c_str();
+      v.push_back(d);
+    }
+    if (ok && v.size() == ncols) rows.push_back(v);
+  }
+  return rows;
+}
+
+// largest difference of two decompositions (nfeat x 8 values from column first of a and b): the force
+// components, sum F_N and sum |F_T| of a feature against that feature's sum F_N + sum |F_T|, the
+// contact counts against max(count, 1)
+double decomp_diff(const std::vector<double> &a, const std::vector<double> &b, size_t first, int nfeat = 4)
+{
+  double d = 0.0;
+  for (int ft = 0; ft < nfeat; ft++) {
+    const double *pa = &a[first + 8 * ft], *pb = &b[first + 8 * ft];
+    const double scale = fabs(pa[5]) + fabs(pa[6]);
+    for (int c = 0; c < 8; c++) {
+      const double s = (c == 4 || c == 7) ? std::max(fabs(pa[c]), 1.0) : scale;
+      if (s > 0.0) d = std::max(d, fabs(pa[c] - pb[c]) / s);
+      else d = std::max(d, fabs(pb[c]) > 0.0 ? 1.0 : 0.0);
+    }
+  }
+  return d;
+}
+
 struct CutRun {
   Snapshot snap;
   std::vector<double> cut, heat;
+  std::vector<std::vector<double>> decomp;    // decomp.dat (-var decomp N): step, cut, 3 x 8 values
 };
 
 CutRun cut_run(const std::vector<std::string> &args, const std::string &example, const std::vector<std::string> &vars)
 {
   Lammps l(MPI_COMM_WORLD, args);
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  if (me == 0) std::remove("decomp.dat");
   for (auto &v : vars) l.cmd("variable " + v);
   l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/" + example + "/in.cutting").c_str());
   CutRun r;
+  MPI_Barrier(MPI_COMM_WORLD);    // fix print flushes each line
+  r.decomp = numeric_rows("decomp.dat", 2 + 24);
   r.snap = take(l);
   // elements 1-15 and the decomposition by tool feature, 16-47
   for (int k = 1; k <= 47; k++) r.cut.push_back(l.equal("f_cut[" + std::to_string(k) + "]"));
@@ -379,13 +424,32 @@ void expect_same_cut(const CutRun &cpu, const CutRun &kk, const char *what, size
 
 }    // namespace
 
+// with the decomposition by tool feature written every 7 steps (-var decomp 7: fix print of
+// f_cut[16..39] on steps that are mostly neither thermo nor per-atom output steps)
 TEST(KokkosThermal, Cut2DMatchesCpu)
 {
   const std::vector<std::string> vars = {"ny index 11", "cut index 0.12e-3", "dumpevery index 0",
-                                         "steps index 9000", "thermoevery index 1000"};
+                                         "steps index 9000", "thermoevery index 1000", "decomp index 7"};
   const CutRun cpu = cut_run({}, "cutting-2d-ti6al4v", vars);
   const CutRun kk = cut_run(KK_FULL, "cutting-2d-ti6al4v", vars);
   expect_same_cut(cpu, kk, "cut 2D");
+  ASSERT_EQ(cpu.decomp.size(), 2 + 9000u / 7);    // step 0 (run 0 and the setup of the run), 7, ..., 8995
+  ASSERT_EQ(kk.decomp.size(), cpu.decomp.size());
+  double d = 0.0, slip = 0.0;
+  int ncont = 0;
+  for (size_t r = 0; r < cpu.decomp.size(); r++) {
+    ASSERT_EQ(kk.decomp[r][0], cpu.decomp[r][0]);
+    d = std::max(d, decomp_diff(cpu.decomp[r], kk.decomp[r], 2, 3));
+    ncont += cpu.decomp[r][2 + 4] > 0.0;
+    slip = std::max(slip, cpu.decomp[r][2 + 7]);
+  }
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  if (me == 0)
+    std::printf("[ cut 2D   ] decomposition every 7 steps /kk vs CPU %.3e (%d lines with rake contacts, up to %g "
+                "at the Coulomb limit)\n", d, ncont, slip);
+  EXPECT_GT(ncont, 100);    // the rake face is in contact for the last ~1300 steps
+  EXPECT_LT(d, 1e-10);
 }
 
 TEST(KokkosThermal, Cut2DFrictionMemoryMatchesCpu)
@@ -459,4 +523,70 @@ TEST(KokkosThermal, CutRestartedFromCpuUnderKokkos)
   const CutRun cont = cut_run(KK_FULL, "cutting-2d-ti6al4v", with({"steps index 1000", "continue index 1"}));
   // heat element 6 (fraction of FMFS evaluations) counts since the fix was defined: not compared
   expect_same_cut(ref, cont, "cpu->kk", 5);
+}
+
+/* ----------------------------------------------------------------------
+   the decomposition by tool feature (f_cut[16..47]): /kk sums it from the contacts' records only
+   when it is read; it must be the one of the last contact evaluation on any step a consumer reads
+   it.  The 2D cut, 11 across, the tool starting 0.6 spacings from the workpiece (the rake face
+   in contact from step ~100); after 1500 steps a second run of 200 steps reads it on the thermo
+   steps (every 7, also through a variable), with fix ave/time every 5 steps (mostly steps
+   without output or per-atom transfer to the host), at the setup, after the run and after a
+   run 0, as with the CPU style.  (13 across, with the tool tip on a row of particles, the CPU
+   and /kk runs part at ~1e-6 before this change too: not used.)
+------------------------------------------------------------------------- */
+
+TEST(KokkosThermal, DecompositionOnAnyStepAsOnTheCpu)
+{
+  const std::vector<std::string> vars = {"ny index 11", "xstart index 0.6", "dumpevery index 0", "steps index 1500",
+                                         "thermoevery index 1000"};
+  std::string fcut;
+  for (int k = 16; k <= 47; k++) fcut += " f_cut[" + std::to_string(k) + "]";
+  std::vector<double> after[2], again[2];
+  for (int k = 0; k < 2; k++) {
+    const std::string name = k ? "kk" : "cpu";
+    Lammps l(MPI_COMM_WORLD, k ? KK_FULL : std::vector<std::string>{});
+    for (auto &v : vars) l.cmd("variable " + v);
+    l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+    l.cmds({"variable dn equal f_cut[21]+f_cut[29]+f_cut[37]+f_cut[45]",
+            "thermo_style custom step v_dn" + fcut, "thermo_modify format float %.17g", "thermo 7",
+            "fix dec all ave/time 5 1 5" + fcut + " file decomp." + name + " format ' %.17g'",
+            "log thermo." + name, "run 200", "log none"});
+    for (int c = 16; c <= 47; c++) after[k].push_back(l.equal("f_cut[" + std::to_string(c) + "]"));
+    // a setup evaluation after the run (run 0) and the read after it
+    l.cmd("run 0");
+    for (int c = 16; c <= 47; c++) again[k].push_back(l.equal("f_cut[" + std::to_string(c) + "]"));
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  const auto tc = numeric_rows("thermo.cpu", 34), tk = numeric_rows("thermo.kk", 34);
+  const auto ac = numeric_rows("decomp.cpu", 33), ak = numeric_rows("decomp.kk", 33);
+  ASSERT_EQ(tc.size(), 30u);    // steps 1500 (setup), 1505, ..., 1694 and 1700 (the last step)
+  ASSERT_EQ(tk.size(), tc.size());
+  ASSERT_EQ(ac.size(), 41u);    // steps 1500 (setup), 1505, ..., 1700
+  ASSERT_EQ(ak.size(), ac.size());
+  double dt = 0.0, dn = 0.0, da = 0.0;
+  for (size_t r = 0; r < tc.size(); r++) {
+    ASSERT_EQ(tk[r][0], tc[r][0]);
+    dt = std::max(dt, decomp_diff(tc[r], tk[r], 2));
+    if (tc[r][1] != 0.0) dn = std::max(dn, fabs(tk[r][1] - tc[r][1]) / fabs(tc[r][1]));
+    else dn = std::max(dn, fabs(tk[r][1]));
+  }
+  for (size_t r = 0; r < ac.size(); r++) {
+    ASSERT_EQ(ak[r][0], ac[r][0]);
+    da = std::max(da, decomp_diff(ac[r], ak[r], 1));
+  }
+  const double de = std::max(decomp_diff(after[0], after[1], 0), decomp_diff(again[0], again[1], 0));
+  if (me == 0)
+    std::printf("[ decomp   ] /kk vs CPU: thermo every 7 %.3e (variable %.3e), ave/time every 5 %.3e, after the "
+                "run and run 0 %.3e; rake contacts at the end %g (%g at the Coulomb limit)\n",
+                dt, dn, da, de, after[0][4], after[0][7]);
+  EXPECT_GT(after[0][4], 2.0);                // the rake face is in contact
+  EXPECT_GT(after[0][7], 0.0);                // some at the Coulomb limit
+  EXPECT_GT(ac[ac.size() / 2][1 + 5], 0.0);   // half way too (sum F_N on the rake face)
+  EXPECT_LT(dt, 1e-10);
+  EXPECT_LT(dn, 1e-10);
+  EXPECT_LT(da, 1e-10);
+  EXPECT_LT(de, 1e-10);
 }
