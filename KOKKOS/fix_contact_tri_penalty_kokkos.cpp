@@ -15,9 +15,10 @@
    The host gets the sums of kernel 1 (tool force, work, dissipation,
    friction power, contact count, deepest penetration, heat booked, the
    spring's dt limit) and updates the tool's position and velocity.
-   Kernel 1 also leaves a record of each contact (sphcut::contact_record);
-   the decomposition by tool feature (vector 16-47) is summed from them by
-   a third kernel only when a consumer reads it (decomposition()).
+   Kernel 1 also leaves a record of each contact (sphcut::contact_record,
+   the feature, the penetration): the decomposition by tool feature
+   (vector 16-47) and the deepest penetration (12) are formed from them by
+   a third kernel only when a consumer reads them (record_sums()).
 ------------------------------------------------------------------------- */
 
 #include "fix_contact_tri_penalty_kokkos.h"
@@ -49,18 +50,21 @@ using namespace FixConst;
 namespace {
 
 // the sums of the contact kernel (a short list: each GPU thread keeps them in shared memory):
-// R_FX.. are added, R_MAXPEN maximised, R_DTCRIT minimised.  R_TWORK and R_DISS hold both rates
-// of the step's trapezoid, the previous contact force's and this one's (the host needs only
-// their sum).  The decomposition by tool feature is not among them: each contact leaves a
-// record (d_rec), summed when the vector is read (decomposition())
+// R_FX.. are added, R_DTCRIT minimised.  R_TWORK and R_DISS hold both rates of the step's
+// trapezoid, the previous contact force's and this one's (the host needs only their sum).  Not
+// among them: the contacts (counted by the slots of their records), the decomposition by tool
+// feature and the deepest penetration (from the records, when they are read: record_sums())
 enum {
-  R_FX = 0, R_FY, R_FZ, R_TWORK, R_DISS, R_FRIC, R_NCONT, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC,
-  R_MAXPEN, R_DTCRIT, NRED
+  R_FX = 0, R_FY, R_FZ, R_TWORK, R_DISS, R_FRIC, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC, R_DTCRIT, NRED
 };
 
 // the device accumulators after the NRED sums of the last step (FixContactTriPenaltyKokkos::d_sums):
 // what the host adds to its totals when it next reads them (fetch)
 enum { A_QWORK = 0, A_QLOST, A_QTOOL, A_QSRC, A_QLUMP, A_TWORK, A_DISS, NACCUM };
+
+// then the two counters of the contact records (d_sums(C_NREC + 0 or 1), used in turn), so
+// that fetch() brings the number of contacts with the sums
+enum { C_NREC = NRED + NACCUM, NSUMS = C_NREC + 2 };
 
 template <class DeviceType> struct ContactKernel {
   typedef DeviceType device_type;
@@ -87,13 +91,13 @@ template <class DeviceType> struct ContactKernel {
   double disp[3], vtool[3];
   double dt, etool, pfac, dfac, sfac, mu0, eta, split;
   sphcut::ContactIn params;    // the fields common to all particles (FixContactTriPenalty::contact_params)
-  Kokkos::View<double *, mem> sums;    // NRED sums of this step, then the NACCUM accumulators
+  Kokkos::View<double *, mem> sums;    // NRED sums of this step, the NACCUM accumulators, the counters
   typename AT::t_double_1d dtlim;      // the spring's dt limit for fix sph/jc-thermal/kk (k_dtlim)
   double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
-  // one record per contact (sphcut::contact_record, then the feature), in the order the contacts
-  // take a slot from the counter nrec(cur); nrec(1 - cur) is cleared for the next step
-  Kokkos::View<double *[sphcut::NDREC + 1], mem> rec;
-  Kokkos::View<int *, mem> nrec;
+  // one record per contact (sphcut::contact_record, the feature, the penetration), in the order
+  // the contacts take a slot from the counter sums(C_NREC + cur); the other is cleared (final)
+  typedef FixContactTriPenaltyKokkos<DeviceType> FK;
+  Kokkos::View<double *[FK::NREC], mem> rec;
   int cur;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
@@ -103,8 +107,7 @@ template <class DeviceType> struct ContactKernel {
   }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
   {
-    for (int k = 0; k < R_MAXPEN; k++) d[k] += s[k];
-    if (s[R_MAXPEN] > d[R_MAXPEN]) d[R_MAXPEN] = s[R_MAXPEN];
+    for (int k = 0; k < R_DTCRIT; k++) d[k] += s[k];
     if (s[R_DTCRIT] < d[R_DTCRIT]) d[R_DTCRIT] = s[R_DTCRIT];
   }
   // once, on the device, with this rank's sums: the time integrals (as the CPU fix's post_force)
@@ -121,7 +124,7 @@ template <class DeviceType> struct ContactKernel {
       sums(NRED + A_DISS) += 0.5 * dt * r[R_DISS];
     }
     dtlim(0) = r[R_DTCRIT] < 1.0e300 ? dtscale * r[R_DTCRIT] : 1.0e300;
-    nrec(1 - cur) = 0;
+    sums(C_NREC + 1 - cur) = 0.0;
   }
 
   // heat (energy/time) into particle i's temperature rate, as FixHeatFMFS::add_heat; true if taken
@@ -192,25 +195,23 @@ template <class DeviceType> struct ContactKernel {
     sphcut::ContactOut out;
     sphcut::penalty_contact(in, out);
     if (!out.active) return;
-    r[R_NCONT] += 1.0;
     if (fmemory && !setup)
       for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
     {
-      // the record of the decomposition by the tool feature of the nearest element
+      // the record: the decomposition by the tool feature of the nearest element, the penetration
       const int feat = feature(best);
       double dr[sphcut::NDREC];
       sphcut::contact_record(out, in.n, dr);
-      const int slot = Kokkos::atomic_fetch_add(&nrec(cur), 1);
+      const int slot = (int) Kokkos::atomic_fetch_add(&sums(C_NREC + cur), 1.0);
       if (slot < (int) rec.extent(0)) {    // (always: one slot per local particle)
         for (int k = 0; k < sphcut::NDREC; k++) rec(slot, k) = dr[k];
-        rec(slot, sphcut::NDREC) = feat;
+        rec(slot, FK::REC_FEAT) = feat;
+        rec(slot, FK::REC_PEN) = out.delta / (0.5 * hi / sfac);
       }
       fout(i, 3) = out.fn;
       fout(i, 4) = dr[sphcut::DREC_FT];
       fout(i, 5) = feat + 1;
     }
-    const double pen = out.delta / (0.5 * hi / sfac);
-    if (pen > r[R_MAXPEN]) r[R_MAXPEN] = pen;
     sphcut::contact_drift(&s[F::XSPH], in.n);    // no XSPH drift along the contact normal
     for (int k = 0; k < dim; k++) {
       f(i, k) += out.f[k];
@@ -263,30 +264,33 @@ template <class DeviceType> struct ContactKernel {
   }
 };
 
-// the decomposition by tool feature (FixContactTriPenalty::decomp, NFEAT x NDECOMP) from the
-// records of the contact kernel
-template <class DeviceType> struct DecompKernel {
+// from the records of the contact kernel: the decomposition by tool feature
+// (FixContactTriPenalty::decomp, NFEAT x NDECOMP), then the deepest penetration (maxpen)
+template <class DeviceType> struct RecordKernel {
   typedef DeviceType device_type;
   typedef double value_type[];
   typedef typename DeviceType::memory_space mem;
-  enum { NFEAT = FixContactTriPenalty::NFEAT, NDECOMP = FixContactTriPenalty::NDECOMP };
-  const unsigned value_count = NFEAT * NDECOMP;
-  Kokkos::View<const double *[sphcut::NDREC + 1], mem> rec;
+  typedef FixContactTriPenaltyKokkos<DeviceType> FK;
+  enum { NDECOMP = FixContactTriPenalty::NDECOMP, V_MAXPEN = FixContactTriPenalty::NFEAT * NDECOMP, NV };
+  const unsigned value_count = NV;
+  Kokkos::View<const double *[FK::NREC], mem> rec;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
-    for (int k = 0; k < NFEAT * NDECOMP; k++) r[k] = 0.0;
+    for (int k = 0; k < NV; k++) r[k] = 0.0;
   }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
   {
-    for (int k = 0; k < NFEAT * NDECOMP; k++) d[k] += s[k];
+    for (int k = 0; k < V_MAXPEN; k++) d[k] += s[k];
+    if (s[V_MAXPEN] > d[V_MAXPEN]) d[V_MAXPEN] = s[V_MAXPEN];
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int c, value_type r) const
   {
     double dr[sphcut::NDREC];
     for (int k = 0; k < sphcut::NDREC; k++) dr[k] = rec(c, k);
-    const int feat = (int) rec(c, sphcut::NDREC);
+    const int feat = (int) rec(c, FK::REC_FEAT);
     sphcut::decompose_record(dr, r + feat * NDECOMP);
+    if (rec(c, FK::REC_PEN) > r[V_MAXPEN]) r[V_MAXPEN] = rec(c, FK::REC_PEN);
   }
 };
 
@@ -467,15 +471,13 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.eta = eta;
   k.split = split;
   k.params = contact_params(dt_last);
-  if ((int) d_sums.extent(0) != NRED + NACCUM) {
-    d_sums = Kokkos::View<double *, mem>("contact:sums", NRED + NACCUM);
+  if ((int) d_sums.extent(0) != NSUMS) {
+    d_sums = Kokkos::View<double *, mem>("contact:sums", NSUMS);    // zeroed (the counters too)
     h_sums = Kokkos::create_mirror_view(d_sums);
   }
   k.sums = d_sums;
   if ((int) d_rec.extent(0) < atom->nmax) d_rec = decltype(d_rec)("contact:rec", atom->nmax);
-  if ((int) d_nrec.extent(0) != 2) d_nrec = Kokkos::View<int *, mem>("contact:nrec", 2);    // zeroed
   k.rec = d_rec;
-  k.nrec = d_nrec;
   k.cur = rec_cur;
   k.dtlim = fixkk->k_dtlim.template view<DeviceType>();
   k.dtscale = dtfac * fixkk->courant();
@@ -490,7 +492,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k_fout.template modify<DeviceType>();
   atomKK->modified(execution_space, F_MASK);
   stale = 1;
-  decomp_stale = 1;
+  records_stale = 1;
   rec_cur = 1 - rec_cur;
   if (tool_particles && heat) {
     sphcut::forward_comm(comm, this);
@@ -511,8 +513,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
   // work_rate and diss_rate (this step's rates alone) stay on the device, in the sums of the
   // trapezoid with the previous step's: only tool_work and contact_diss are used
   fric_power = r[R_FRIC];
-  ncontact = (int) r[R_NCONT];
-  maxpen = r[R_MAXPEN];
+  ncontact = (int) r[C_NREC + 1 - rec_cur];    // the counter of the last evaluation
   dt_crit = r[R_DTCRIT];
   q_work += a[A_QWORK];
   q_tool_lost += a[A_QLOST];
@@ -528,28 +529,34 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
   Kokkos::deep_copy(Kokkos::subview(d_sums, std::make_pair((int) NRED, (int) (NRED + NACCUM))), 0.0);
 }
 
-/* the decomposition by tool feature of the last contact evaluation (decomp), summed from its
-   records when it is read: once per evaluation.  The records do not belong to atoms, so they
-   stay valid when atoms move between ranks or are sorted, and between runs. */
-template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::decomposition()
+/* the decomposition by tool feature (decomp) and the deepest penetration (maxpen) of the last
+   contact evaluation, from its records when they are read: once per evaluation.  The records do
+   not belong to atoms, so they stay valid when atoms move between ranks or are sorted, and
+   between runs. */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::record_sums()
 {
-  if (!decomp_stale) return;
+  if (!records_stale) return;
   fetch();    // ncontact: the number of records
-  decomp_stale = 0;
-  for (int ft = 0; ft < NFEAT; ft++)
-    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
+  records_stale = 0;
+  typedef RecordKernel<DeviceType> K;
+  double res[K::NV];
+  for (int v = 0; v < K::NV; v++) res[v] = 0.0;
   const int n = std::min(ncontact, (int) d_rec.extent(0));
-  if (n <= 0) return;
-  DecompKernel<DeviceType> k;
-  k.rec = d_rec;
-  Kokkos::View<double *, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> res(&decomp[0][0], NFEAT * NDECOMP);
-  Kokkos::parallel_reduce("sphcut:contact:decomposition", sphcut::range<DeviceType>(0, n), k, res);
+  if (n > 0) {
+    K k;
+    k.rec = d_rec;
+    Kokkos::View<double *, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> r(res, K::NV);
+    Kokkos::parallel_reduce("sphcut:contact:record_sums", sphcut::range<DeviceType>(0, n), k, r);
+  }
+  for (int ft = 0; ft < NFEAT; ft++)
+    for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = res[ft * NDECOMP + c];
+  maxpen = res[K::V_MAXPEN];
 }
 
 template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::compute_vector(int n)
 {
   fetch();
-  if (n >= 15) decomposition();
+  if (n == 11 || n >= 15) record_sums();
   return FixContactTriPenalty::compute_vector(n);
 }
 

@@ -7,9 +7,9 @@
    heat); the tool's share of the friction heat reaches the tool particles
    by a gather (no atomics, no reverse communication).  The global sums
    (tool force, powers, heat, the spring's dt limit) come back in one
-   reduction; the decomposition by tool feature (vector 16-47) is summed
-   from per-contact records only when it is read.  mu from a LAMMPS
-   variable cannot run in a kernel: refused.
+   reduction; the decomposition by tool feature (vector 16-47) and the
+   deepest penetration are formed from per-contact records only when they
+   are read.  mu from a LAMMPS variable cannot run in a kernel: refused.
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -71,11 +71,13 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   typename Kokkos::View<double *, mem>::HostMirror h_sums;
   int stale = 0;                                 // d_sums holds what the host copies lack
   void fetch();
-  Kokkos::View<double *[sphcut::NDREC + 1], mem> d_rec;    // a record per contact of the last evaluation
-  Kokkos::View<int *, mem> d_nrec;               // their counters (two, used in turn)
-  int rec_cur = 0;                               // the counter of the next evaluation
-  int decomp_stale = 0;                          // decomp lacks the last evaluation's records
-  void decomposition();                          // decomp from the records (when it is read)
+  // a record per contact of the last evaluation: sphcut::contact_record, the tool feature, the
+  // penetration relative to the contact radius (the .cpp's kernels)
+  enum { REC_FEAT = sphcut::NDREC, REC_PEN, NREC };
+  Kokkos::View<double *[NREC], mem> d_rec;
+  int rec_cur = 0;                               // the record counter of the next evaluation (0, 1)
+  int records_stale = 0;                         // decomp, maxpen lack the last evaluation's records
+  void record_sums();                            // decomp, maxpen from the records (when read)
   double vtool_dev[3] = {0.0, 0.0, 0.0};         // tool velocity the tool particles were last given
   void tool_velocity_device();
   void tool_heat_gather();                       // adds the tool's heat to its particles and to d_sums

@@ -526,9 +526,9 @@ TEST(KokkosThermal, CutRestartedFromCpuUnderKokkos)
 }
 
 /* ----------------------------------------------------------------------
-   the decomposition by tool feature (f_cut[16..47]): /kk sums it from the contacts' records only
-   when it is read; it must be the one of the last contact evaluation on any step a consumer reads
-   it.  The 2D cut, 11 across, the tool starting 0.6 spacings from the workpiece (the rake face
+   the decomposition by tool feature (f_cut[16..47]), the contact count and the deepest
+   penetration (f_cut[5], f_cut[12]): /kk forms them from the contacts' records only when they are
+   read; they must be the ones of the last contact evaluation on any step a consumer reads them.  The 2D cut, 11 across, the tool starting 0.6 spacings from the workpiece (the rake face
    in contact from step ~100); after 1500 steps a second run of 200 steps reads it on the thermo
    steps (every 7, also through a variable), with fix ave/time every 5 steps (mostly steps
    without output or per-atom transfer to the host), at the setup, after the run and after a
@@ -540,7 +540,7 @@ TEST(KokkosThermal, DecompositionOnAnyStepAsOnTheCpu)
 {
   const std::vector<std::string> vars = {"ny index 11", "xstart index 0.6", "dumpevery index 0", "steps index 1500",
                                          "thermoevery index 1000"};
-  std::string fcut;
+  std::string fcut = " f_cut[5] f_cut[12]";
   for (int k = 16; k <= 47; k++) fcut += " f_cut[" + std::to_string(k) + "]";
   std::vector<double> after[2], again[2];
   for (int k = 0; k < 2; k++) {
@@ -556,37 +556,48 @@ TEST(KokkosThermal, DecompositionOnAnyStepAsOnTheCpu)
     // a setup evaluation after the run (run 0) and the read after it
     l.cmd("run 0");
     for (int c = 16; c <= 47; c++) again[k].push_back(l.equal("f_cut[" + std::to_string(c) + "]"));
+    after[k].push_back(l.equal("f_cut[5]"));
+    after[k].push_back(l.equal("f_cut[12]"));
   }
   MPI_Barrier(MPI_COMM_WORLD);
   int me;
   MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  const auto tc = numeric_rows("thermo.cpu", 34), tk = numeric_rows("thermo.kk", 34);
-  const auto ac = numeric_rows("decomp.cpu", 33), ak = numeric_rows("decomp.kk", 33);
+  const auto tc = numeric_rows("thermo.cpu", 36), tk = numeric_rows("thermo.kk", 36);
+  const auto ac = numeric_rows("decomp.cpu", 35), ak = numeric_rows("decomp.kk", 35);
   ASSERT_EQ(tc.size(), 30u);    // steps 1500 (setup), 1505, ..., 1694 and 1700 (the last step)
   ASSERT_EQ(tk.size(), tc.size());
   ASSERT_EQ(ac.size(), 41u);    // steps 1500 (setup), 1505, ..., 1700
   ASSERT_EQ(ak.size(), ac.size());
-  double dt = 0.0, dn = 0.0, da = 0.0;
+  // a value against its magnitude (0 must stay 0)
+  auto rel = [](double a, double b) { return a != 0.0 ? fabs(b - a) / fabs(a) : fabs(b); };
+  double dt = 0.0, dn = 0.0, da = 0.0, dp = 0.0;
   for (size_t r = 0; r < tc.size(); r++) {
     ASSERT_EQ(tk[r][0], tc[r][0]);
-    dt = std::max(dt, decomp_diff(tc[r], tk[r], 2));
-    if (tc[r][1] != 0.0) dn = std::max(dn, fabs(tk[r][1] - tc[r][1]) / fabs(tc[r][1]));
-    else dn = std::max(dn, fabs(tk[r][1]));
+    dt = std::max(dt, decomp_diff(tc[r], tk[r], 4));
+    dn = std::max(dn, rel(tc[r][1], tk[r][1]));
+    EXPECT_EQ(tk[r][2], tc[r][2]) << "contacts, step " << tc[r][0];
+    dp = std::max(dp, rel(tc[r][3], tk[r][3]));
   }
   for (size_t r = 0; r < ac.size(); r++) {
     ASSERT_EQ(ak[r][0], ac[r][0]);
-    da = std::max(da, decomp_diff(ac[r], ak[r], 1));
+    da = std::max(da, decomp_diff(ac[r], ak[r], 3));
+    EXPECT_EQ(ak[r][1], ac[r][1]) << "contacts, step " << ac[r][0];
+    dp = std::max(dp, rel(ac[r][2], ak[r][2]));
   }
   const double de = std::max(decomp_diff(after[0], after[1], 0), decomp_diff(again[0], again[1], 0));
+  EXPECT_EQ(after[1][32], after[0][32]);    // contacts after the run 0
+  dp = std::max(dp, rel(after[0][33], after[1][33]));
   if (me == 0)
     std::printf("[ decomp   ] /kk vs CPU: thermo every 7 %.3e (variable %.3e), ave/time every 5 %.3e, after the "
-                "run and run 0 %.3e; rake contacts at the end %g (%g at the Coulomb limit)\n",
-                dt, dn, da, de, after[0][4], after[0][7]);
+                "run and run 0 %.3e, deepest penetration %.3e; rake contacts at the end %g (%g at the Coulomb "
+                "limit)\n", dt, dn, da, de, dp, after[0][4], after[0][7]);
   EXPECT_GT(after[0][4], 2.0);                // the rake face is in contact
   EXPECT_GT(after[0][7], 0.0);                // some at the Coulomb limit
-  EXPECT_GT(ac[ac.size() / 2][1 + 5], 0.0);   // half way too (sum F_N on the rake face)
+  EXPECT_GT(ac[ac.size() / 2][3 + 5], 0.0);   // half way too (sum F_N on the rake face)
+  EXPECT_GT(after[0][33], 0.0);               // a penetration
   EXPECT_LT(dt, 1e-10);
   EXPECT_LT(dn, 1e-10);
   EXPECT_LT(da, 1e-10);
   EXPECT_LT(de, 1e-10);
+  EXPECT_LT(dp, 1e-10);
 }
