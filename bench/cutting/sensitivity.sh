@@ -21,7 +21,7 @@ IN="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
 NAMES=(base memory coulomb centre pfac0.3 pfac3 dfac0 dfac1 split1 mu0.65 mu0.65-memory
        vreg0.1% vreg10% av0.1 av0.5 av2 xsph0 xsph1 clamp-left-half clamp-bottom hg0.1 hg1)
 # run only when named in ONLY: the hourglass control with the other variants
-EXTRA_NAMES=(hg0.1-mu0.65 hg0.1-pfac3 dtfac0.3 dtfac0.5)
+EXTRA_NAMES=(hg0.1-mu0.65 hg0.1-pfac3 dtfac0.3 dtfac0.5 cfl0.45-dtfac0.5)
 declare -A VARIANTS=(
   [base]=""                                  # static-limit friction (stick yes), mu 0.35, split auto
   [memory]="-var friction memory"            # friction with memory (elastic predictor, alpha 0.1)
@@ -38,6 +38,7 @@ declare -A VARIANTS=(
   [hg0.1-pfac3]="-var pfac 3"
   [dtfac0.3]="-var dtfac 0.3"                # the penalty spring's time step limit (default 0.15):
   [dtfac0.5]="-var dtfac 0.5"                # in contact it sets dt (fewer steps, same physics?)
+  [cfl0.45-dtfac0.5]="-var cfl 0.45 -var dtfac 0.5"   # and a larger Courant number (IWF: about 0.6)
   # input edits only (EDITS below)
   [vreg0.1%]="" [vreg10%]="" [av0.1]="" [av0.5]="" [av2]="" [xsph0]="" [xsph1]=""
   [clamp-left-half]="" [clamp-bottom]="" [hg0.1]="" [hg1]=""
