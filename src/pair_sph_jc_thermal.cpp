@@ -39,6 +39,7 @@
 #include "sphcut_timer.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <vector>
 
@@ -54,12 +55,17 @@ enum CommMode { COMM_ACC = 0, COMM_HG = 1 };
 // mass and the stresses
 enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_VOL = 8, PK_HASR = 9, PK_A = 10, PK_R = 16, NPK = 22 };
 static constexpr double UNSET = -1.0e300;
+// the material record of restart files written before the pressure cutoff pmin (its last field)
+static constexpr int MATSIZE_NO_PMIN = (int) offsetof(Material, pmin);
+static_assert(offsetof(Material, pmin) + sizeof(double) == sizeof(Material),
+              "pmin must stay the last field of Material (restart files of older versions)");
 
 /* ---------------------------------------------------------------------- */
 
 PairSPHJCThermal::PairSPHJCThermal(LAMMPS *lmp) :
     Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), tpair(nullptr),
-    fix(nullptr), nmax(0), pack(nullptr), acc(nullptr), lgrad(nullptr), hgacc(nullptr), comm_mode(COMM_ACC)
+    fix(nullptr), nmax(0), pack(nullptr), acc(nullptr), lgrad(nullptr), hgacc(nullptr), comm_mode(COMM_ACC),
+    restart_matsize((int) sizeof(Material))
 {
   restartinfo = 1;
   single_enable = 0;
@@ -190,6 +196,7 @@ void PairSPHJCThermal::coeff(int narg, char **arg)
   const int nfields = sizeof(names) / sizeof(names[0]);
   for (int k = 0; k < nfields; k++) *fields[k] = UNSET;
   m.eos = sphcut::EOS_LINEAR;
+  m.pmin = 0.0;    // no pressure cutoff
   double h = 0.0, hx = 0.0;
   int nmat = 0;
 
@@ -209,6 +216,18 @@ void PairSPHJCThermal::coeff(int narg, char **arg)
       if (e == "linear") m.eos = sphcut::EOS_LINEAR;
       else if (e == "mie-gruneisen") m.eos = sphcut::EOS_MIE_GRUNEISEN;
       else error->all(FLERR, "Pair sph/jc-thermal: unknown eos {} (linear, mie-gruneisen)", e);
+      nmat++;
+    } else if (kw == "pmin") {
+      // tension cutoff of the pressure: a negative pressure, or none (the default)
+      const std::string v = val;
+      if (v == "none") m.pmin = 0.0;
+      else {
+        if (!utils::is_double(v))
+          error->all(FLERR, "Pair sph/jc-thermal: pmin must be a negative pressure or none, got {}", v);
+        m.pmin = utils::numeric(FLERR, val, false, lmp);
+        if (!(m.pmin < 0.0))
+          error->all(FLERR, "Pair sph/jc-thermal: pmin must be < 0 (a tensile pressure) or none, got {}", v);
+      }
       nmat++;
     } else {
       int k = 0;
@@ -717,7 +736,8 @@ void PairSPHJCThermal::read_restart(FILE *fp)
   allocate();
   const int me = comm->me;
   for (int i = 1; i <= atom->ntypes; i++) {
-    if (me == 0) utils::sfread(FLERR, &mat[i], sizeof(Material), 1, fp, nullptr, error);
+    // an older file's shorter record leaves the fields after it (pmin) at 0 (allocate): no cutoff
+    if (me == 0) utils::sfread(FLERR, &mat[i], restart_matsize, 1, fp, nullptr, error);
     MPI_Bcast(&mat[i], sizeof(Material), MPI_BYTE, 0, world);
     for (int j = i; j <= atom->ntypes; j++) {
       if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
@@ -737,7 +757,9 @@ void PairSPHJCThermal::read_restart(FILE *fp)
 void PairSPHJCThermal::write_restart_settings(FILE *fp)
 {
   // a negative record size marks the settings with the hourglass coefficient (files written
-  // before it have the positive size and no coefficient: read as hourglass 0)
+  // before it have the positive size and no coefficient: read as hourglass 0).  The record
+  // size itself tells the material layout: sizeof(Material), or MATSIZE_NO_PMIN for files
+  // written before the pressure cutoff (read as no cutoff)
   const int matsize = -(int) sizeof(Material);
   fwrite(&matsize, sizeof(int), 1, fp);
   fwrite(&kernel_kind, sizeof(int), 1, fp);
@@ -759,9 +781,10 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
     }
   }
   MPI_Bcast(&matsize, 1, MPI_INT, 0, world);
-  if (matsize != (int) sizeof(Material))
+  if (matsize != (int) sizeof(Material) && matsize != MATSIZE_NO_PMIN)
     error->all(FLERR, "Pair sph/jc-thermal: restart file written by another sphcut version "
                "(material record {} bytes, this version {})", matsize, (int) sizeof(Material));
+  restart_matsize = matsize;
   MPI_Bcast(&kernel_kind, 1, MPI_INT, 0, world);
   MPI_Bcast(&correction, 1, MPI_INT, 0, world);
   MPI_Bcast(&hourglass, 1, MPI_DOUBLE, 0, world);

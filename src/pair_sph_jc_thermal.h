@@ -73,6 +73,7 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle {
   int comm_mode;                  // what pack/unpack_*_comm move: COMM_ACC (the sums), COMM_HG (L / du)
   std::vector<int> nbr_j;         // the pairs of one particle within the cutoff, and their scalars
   std::vector<sphcut::PairScalars> nbr_s;
+  int restart_matsize;            // bytes of a material record in the restart file being read
 
   void allocate();
   template <int DIM, int NEWTON> void pair_loop(int any_as);

@@ -32,6 +32,10 @@ struct Material {
   double av_alpha, av_beta;   // Monaghan artificial viscosity
   double as_eps, as_n;        // Gray-Monaghan artificial stress
   double xsph;                // XSPH epsilon
+  // tensile failure (pair_coeff keyword pmin): the pressure is cut off at pmin < 0 (spall, as the
+  // pressure cutoff PC of LS-DYNA *MAT_JOHNSON_COOK, spall type 1); 0: no cutoff.  Last field:
+  // the restart reader takes the shorter record of older files (PairSPHJCThermal::read_restart)
+  double pmin;
 };
 
 SPHCUT_INLINE void material_derive(Material &mat)
@@ -46,8 +50,10 @@ SPHCUT_INLINE void material_derive(Material &mat)
    linear: p = c0^2 (rho - rho0)
    Mie-Grueneisen (Hugoniot reference, mu = rho/rho0 - 1, e = cp (T - Tref)):
      mu > 0: p = rho0 c0^2 mu (1 + (1 - gamma0/2) mu) / (1 - (s-1) mu)^2 + gamma0 rho0 e
-     mu < 0: p = rho0 c0^2 mu + gamma0 rho0 e                                          */
-SPHCUT_INLINE double eos_pressure(const Material &mat, double rho, double T)
+     mu < 0: p = rho0 c0^2 mu + gamma0 rho0 e
+   eos_pressure_uncut is the EOS alone; eos_pressure, what every caller uses (the pair's
+   force state, the fix's PRESS column), adds the tension cutoff.                     */
+SPHCUT_INLINE double eos_pressure_uncut(const Material &mat, double rho, double T)
 {
   if (mat.eos == EOS_MIE_GRUNEISEN) {
     const double mu = rho / mat.rho0 - 1.0;
@@ -61,6 +67,22 @@ SPHCUT_INLINE double eos_pressure(const Material &mat, double rho, double T)
     return rc2 * mu + mat.gamma0 * mat.rho0 * e;
   }
   return mat.c0 * mat.c0 * (rho - mat.rho0);
+}
+
+/* pressure cutoff (spall limit, keyword pmin < 0; LS-DYNA *MAT_JOHNSON_COOK PC, spall type 1):
+   p = max(p_EOS, pmin).  Below the cutoff the pressure stays at pmin however far the particle
+   expands (no bulk stiffness in tension there: dp/drho = 0), and it follows the EOS again once
+   the EOS comes back above pmin; the deviatoric stress is not touched.  Without a cutoff
+   (pmin = 0) p_EOS unchanged.  The sound speeds (c0, c_l: time step, artificial viscosity) stay
+   those of the EOS.  A NaN stays NaN (the comparison is false).                          */
+SPHCUT_INLINE double pressure_cutoff(const Material &mat, double p)
+{
+  return (mat.pmin < 0.0 && p < mat.pmin) ? mat.pmin : p;
+}
+
+SPHCUT_INLINE double eos_pressure(const Material &mat, double rho, double T)
+{
+  return pressure_cutoff(mat, eos_pressure_uncut(mat, rho, T));
 }
 
 /* ---- Johnson-Cook flow stress, seed 003 eq. (9) ---------------------

@@ -100,6 +100,41 @@ TEST(Kokkos, HourglassControlMatchesCpu)
   EXPECT_TRUE(l.error_contains("run 0", "hourglass 0.5 needs the full neighbor list"));
 }
 
+// the pressure cutoff (pair_coeff ... pmin) under /kk: the collision with a pmin that the release
+// waves reach, full and half list against the CPU style, 2D and 3D.  The cutoff acts: particles sit
+// at pmin, and the state differs from the run without it by far more than the tolerance.
+TEST(Kokkos, PressureCutoffMatchesCpu)
+{
+  const std::string pmin = "-3e8";
+  auto run_pmin = [&](const std::vector<std::string> &args, const std::string &newton, int dim, const std::string &p) {
+    Lammps l(MPI_COMM_WORLD, args);
+    auto c = collision(newton, dim);
+    for (auto &line : c)
+      if (line.rfind("pair_coeff", 0) == 0 && !p.empty()) line += " pmin " + p;
+    l.cmds(c);
+    l.cmd("run 100");
+    return take(l);
+  };
+  for (int dim : {2, 3}) {
+    const Snapshot cpu = run_pmin({}, "on", dim, pmin);
+    const int ncol = LAMMPS_NS::FixSPHJCThermal::NOUT, P = LAMMPS_NS::FixSPHJCThermal::PRESS;
+    int atmin = 0;
+    for (size_t i = 0; i < cpu.state.size() / ncol; i++)
+      if (cpu.state[i * ncol + P] == std::stod(pmin)) atmin++;
+    std::printf("[ pmin %dD  ] %d of %zu particles at pmin %s\n", dim, atmin, cpu.state.size() / ncol, pmin.c_str());
+    EXPECT_GT(atmin, 0) << "the cutoff is reached";
+    expect_same(cpu, run_pmin(KK_FULL, "off", dim, pmin), dim == 2 ? "kk pmin 2D" : "kk pmin 3D");
+    expect_same(cpu, run_pmin(KK_HALF, "on", dim, pmin), dim == 2 ? "kk half pmin 2D" : "kk half pmin 3D");
+    const Snapshot plain = run_pmin({}, "on", dim, "");
+    double diff = 0.0, scale = 0.0;
+    for (size_t i = 0; i < cpu.state.size() / ncol; i++) {
+      diff = std::max(diff, fabs(cpu.state[i * ncol + P] - plain.state[i * ncol + P]));
+      scale = std::max(scale, fabs(cpu.state[i * ncol + P]));
+    }
+    EXPECT_GT(diff, 1e-3 * scale) << "the cutoff changes the pressure";
+  }
+}
+
 TEST(Kokkos, HalfListNewtonOnMatchesCpu2D)
 {
   expect_same(run({}, "on", 2, 100), run(KK_HALF, "on", 2, 100), "kk half");

@@ -124,6 +124,55 @@ TEST(Material, EquationOfState)
             -eos_pressure(mat, 0.9 * mat.rho0, mat.Tref));
 }
 
+// pressure cutoff (pair_coeff keyword pmin): p = max(p_EOS, pmin) for both EOS, in tension and
+// with the thermal pressure of Mie-Grueneisen; the EOS itself (bit for bit) above pmin and without
+// a cutoff (pmin = 0); pmin exactly below it, however far the material expands
+TEST(Material, PressureCutoff)
+{
+  for (int eos : {EOS_LINEAR, EOS_MIE_GRUNEISEN}) {
+    Material mat = ti64();
+    mat.eos = eos;
+    if (eos == EOS_MIE_GRUNEISEN) {
+      mat.gamma0 = 1.23;
+      mat.s_hug = 1.09;
+    }
+    Material cut = mat;
+    cut.pmin = -4.0e9;
+    // p_EOS = -4 GPa at rho = rho0 (1 - 4e9/K) (linear; Mie-Grueneisen at T = Tref too)
+    const double rho_c = mat.rho0 * (1.0 - 4.0e9 / mat.K);
+    int nbelow = 0, nabove = 0;
+    for (double T : {300.0, 900.0}) {
+      for (int k = 0; k <= 60; k++) {
+        const double rho = mat.rho0 * (1.10 - 0.005 * k);    // 10 % compression .. 20 % expansion
+        const double p = eos_pressure_uncut(mat, rho, T);
+        // hand-written EOS: the linear one, or Mie-Grueneisen's tension branch
+        if (eos == EOS_LINEAR) EXPECT_EQ(p, mat.c0 * mat.c0 * (rho - mat.rho0));
+        else if (rho < mat.rho0)
+          EXPECT_NEAR(p, mat.K * (rho / mat.rho0 - 1.0) + 1.23 * mat.rho0 * mat.cp * (T - 300.0), 1e-6 * mat.K);
+        EXPECT_EQ(eos_pressure(mat, rho, T), p) << "no cutoff: the EOS, bit for bit";
+        const double pc = eos_pressure(cut, rho, T);
+        if (p >= -4.0e9) {
+          EXPECT_EQ(pc, p) << "above pmin: the EOS, rho " << rho << " T " << T;
+          nabove++;
+        } else {
+          EXPECT_EQ(pc, -4.0e9) << "below pmin: pmin, rho " << rho << " T " << T;
+          nbelow++;
+        }
+      }
+    }
+    EXPECT_GT(nbelow, 10);
+    EXPECT_GT(nabove, 10);
+    // the cutoff density of the linear EOS (and of Mie-Grueneisen at Tref): just above it the EOS,
+    // just below pmin
+    EXPECT_GT(eos_pressure(cut, rho_c * (1.0 + 1e-9), 300.0), -4.0e9);
+    EXPECT_EQ(eos_pressure(cut, rho_c * (1.0 - 1e-9), 300.0), -4.0e9);
+    EXPECT_EQ(eos_pressure(cut, 0.5 * mat.rho0, 300.0), -4.0e9);
+    // compression untouched; a NaN is not hidden
+    EXPECT_EQ(eos_pressure(cut, 1.05 * mat.rho0, 300.0), eos_pressure_uncut(mat, 1.05 * mat.rho0, 300.0));
+    EXPECT_TRUE(std::isnan(eos_pressure(cut, std::nan(""), 300.0)));
+  }
+}
+
 // total stress = deviator - p I
 TEST(Material, CauchyStress)
 {

@@ -5,9 +5,11 @@
 #include "fix_sph_jc_thermal.h"
 #include "force.h"
 #include "pair.h"
+#include "pair_sph_jc_thermal.h"
 #include "update.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -184,11 +186,154 @@ TEST(BadInput, PairAndFix)
                                "C must be >= 0, got -0.1"));
   EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 gamma0 2.0",
                                "gamma0 and s are Mie-Grueneisen values"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin 4e9",
+                               "pmin must be < 0 (a tensile pressure) or none, got 4e9"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin 0",
+                               "pmin must be < 0 (a tensile pressure) or none, got 0"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin -4GPa",
+                               "pmin must be a negative pressure or none, got -4GPa"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin", "keyword pmin needs a value"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal dtmax 1e-9", "dtmax and dtmin need the adaptive time step"));
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1.3e-3");
   EXPECT_TRUE(l.error_contains("run 0", "requires fix sph/jc-thermal"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal temp -5", "temp must be >= 0, got -5"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl", "keyword cfl needs a value"));
+}
+
+/* pressure cutoff (pair_coeff keyword pmin): a block at uniform density rho, without deviatoric
+   or artificial stress (as_eps 0), carries the uniform stress -p I.  Stretched 2 % (p_EOS =
+   -0.02 K = -3.33 GPa) with pmin -1 GPa, the PRESS column is pmin and every force (the surface
+   particles' traction; f is linear in a uniform p) is that of p_EOS scaled by pmin/p_EOS;
+   stretched 0.3 % (p_EOS = -0.5 GPa, above pmin) the state and forces are those without pmin,
+   bit for bit.  Under /kk (test_mechanics_kk) the same. */
+TEST(PressureCutoff, StretchedBlock)
+{
+  const double rho0 = 7800.0, K = 200e9 / (3 * (1 - 2 * 0.3));
+  struct Result {
+    std::vector<double> press, fx, fy;
+  };
+  auto stretched = [&](const std::string &pmin, double strain) {
+    Lammps l;
+    block2d(l, 12, 8, 1.0e-3, "as_eps 0.0" + (pmin.empty() ? std::string() : " pmin " + pmin));
+    l.cmd("run 0 post no");
+    auto *fix = state_fix(l);
+    auto *atom = l.lmp->atom;
+    for (int i = 0; i < atom->nlocal; i++) fix->state[i][F::RHO] = fix->state[i][F::RHO_F] = rho0 * (1.0 - strain);
+    l.cmd("run 0 post no");
+    Result r;
+    r.press.resize(atom->natoms);
+    r.fx.resize(atom->natoms);
+    r.fy.resize(atom->natoms);
+    for (int i = 0; i < atom->nlocal; i++) {
+      const int t = atom->tag[i] - 1;
+      r.press[t] = fix->state[i][F::PRESS];
+      r.fx[t] = atom->f[i][0];
+      r.fy[t] = atom->f[i][1];
+    }
+    return r;
+  };
+  const double p_eos = -0.02 * K;
+  const Result none = stretched("", 0.02), cut = stretched("-1e9", 0.02);
+  ASSERT_EQ(none.press.size(), 77u);    // 11 x 7
+  double fmax = 0.0;
+  for (size_t t = 0; t < none.fx.size(); t++) fmax = std::max(fmax, std::hypot(none.fx[t], none.fy[t]));
+  ASSERT_GT(fmax, 0.0);
+  for (size_t t = 0; t < none.press.size(); t++) {
+    EXPECT_NEAR(none.press[t], p_eos, 1e-9 * K);
+    EXPECT_EQ(cut.press[t], -1.0e9) << "atom " << t + 1;
+    EXPECT_NEAR(cut.fx[t], none.fx[t] * (-1.0e9 / p_eos), 1e-12 * fmax) << "atom " << t + 1;
+    EXPECT_NEAR(cut.fy[t], none.fy[t] * (-1.0e9 / p_eos), 1e-12 * fmax) << "atom " << t + 1;
+  }
+  // above pmin: the EOS
+  const Result none3 = stretched("", 0.003), cut3 = stretched("-1e9", 0.003);
+  for (size_t t = 0; t < none3.press.size(); t++) {
+    EXPECT_NEAR(none3.press[t], -0.003 * K, 1e-9 * K);
+    EXPECT_EQ(cut3.press[t], none3.press[t]);
+    EXPECT_EQ(cut3.fx[t], none3.fx[t]);
+    EXPECT_EQ(cut3.fy[t], none3.fy[t]);
+  }
+}
+
+// pmin travels with the restart file, per type; pair_coeff without it (or with pmin none) sets no cutoff
+TEST(PressureCutoff, Restart)
+{
+  {
+    Lammps l;
+    block2d(l, 6, 4, 1.0e-3, "pmin -2.5e9");
+    l.cmds({"run 0 post no", "write_restart pmin.restart"});
+  }
+  Lammps l;
+  l.cmds({"read_restart pmin.restart", "fix sph all sph/jc-thermal", "run 0 post no"});
+  auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
+  EXPECT_EQ(pair->materials()[1].pmin, -2.5e9);
+  EXPECT_EQ(pair->materials()[1].rho0, 7800.0);
+  l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 pmin none");
+  EXPECT_EQ(pair->materials()[1].pmin, 0.0);
+  l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 pmin -3e9");
+  EXPECT_EQ(pair->materials()[1].pmin, -3e9);
+  l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3");
+  EXPECT_EQ(pair->materials()[1].pmin, 0.0);
+}
+
+/* a restart file of a version before pmin (its material record ends before pmin, the last field)
+   reads as no cutoff; a record of any other size is refused.  The pair's restart section is
+   written here by hand in the older layout and read with PairSPHJCThermal::read_restart. */
+TEST(PressureCutoff, OlderRestartReadsAsNoCutoff)
+{
+  auto write_old = [](const char *name, int matsize) {
+    sphcut::Material m = {};
+    m.defined = 1;
+    m.rho0 = 4430.0;
+    m.E = 113.8e9;
+    m.nu = 0.342;
+    m.xsph = 0.5;
+    m.pmin = -7.0e9;    // not in the older record: must not be read
+    FILE *fp = fopen(name, "wb");
+    const int neg = -matsize, kernel = 0, corr = 1, setflag = 1;
+    const double hourglass = 0.1, h = 1.3e-5, hdx = 1.3;
+    fwrite(&neg, sizeof(int), 1, fp);
+    fwrite(&kernel, sizeof(int), 1, fp);
+    fwrite(&corr, sizeof(int), 1, fp);
+    fwrite(&hourglass, sizeof(double), 1, fp);
+    fwrite(&m, matsize, 1, fp);
+    fwrite(&setflag, sizeof(int), 1, fp);
+    fwrite(&h, sizeof(double), 1, fp);
+    fwrite(&hdx, sizeof(double), 1, fp);
+    fclose(fp);
+  };
+  const int oldsize = (int) offsetof(sphcut::Material, pmin);
+  write_old("pmin-old.restart", oldsize);
+  FILE *fp = nullptr;
+  {
+    Lammps l;
+    l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "region box block 0 1 0 1 -0.5 0.5",
+            "create_box 1 box", "pair_style sph/jc-thermal"});
+    auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
+    fp = fopen("pmin-old.restart", "rb");
+    pair->read_restart(fp);
+    fclose(fp);
+    const sphcut::Material &m = pair->materials()[1];
+    EXPECT_EQ(m.rho0, 4430.0);
+    EXPECT_EQ(m.nu, 0.342);
+    EXPECT_EQ(m.xsph, 0.5);
+    EXPECT_EQ(m.pmin, 0.0) << "older file: no cutoff";
+    EXPECT_EQ(pair->hourglass_coefficient(), 0.1);
+    EXPECT_EQ(pair->smoothing_length(1, 1), 1.3e-5);
+  }
+  // a record neither of this version nor of the one before
+  Lammps l2;
+  l2.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "region box block 0 1 0 1 -0.5 0.5",
+           "create_box 1 box", "pair_style sph/jc-thermal"});
+  write_old("pmin-bad.restart", oldsize - 8);
+  fp = fopen("pmin-bad.restart", "rb");
+  bool refused = false;
+  try {
+    static_cast<LAMMPS_NS::PairSPHJCThermal *>(l2.lmp->force->pair)->read_restart(fp);
+  } catch (LAMMPS_NS::LAMMPSException &e) {
+    refused = std::string(e.what()).find("restart file written by another sphcut version") != std::string::npos;
+  }
+  fclose(fp);
+  EXPECT_TRUE(refused);
 }
 
 // a missing mass command, or per-atom masses left at 0 (fix property/atom rmass without
