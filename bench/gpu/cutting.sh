@@ -110,7 +110,7 @@ cut2d() {
   local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
   local t0; t0=$(date +%s)
   timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
-    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx ${HDX:-auto} ${CUT_ARGS:-} \
+    -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx ${HDX:-0} ${CUT_ARGS:-} \
     -log log.seg$seg > screen 2>&1 || tail -3 screen
   say "cut2d ny $ny cut $cut ${CUT_ARGS:-}, segment $seg (continue $cont, walltime $wall): $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.seg$seg | tail -1)"
   say "  $(tail -1 forces.dat)"

@@ -8,7 +8,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 : "${LMP:?source build/env.sh first}"
 NY="${NY:-11}"; CUT="${CUT:-0.3e-3}"; NP="${NP:-$(nproc)}"
-HDX="${HDX:-auto}"
+HDX="${HDX:-0}"
 mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut "$CUT" -var hdx "$HDX" -var dumpevery 1000 -var thermoevery 4000 \
   -log log.cutting | awk '/^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time/{print}'
 # Debian's python3 has numpy and matplotlib (tools/build-deps.sh installs them)
