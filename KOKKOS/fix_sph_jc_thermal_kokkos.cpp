@@ -269,6 +269,7 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::report_runaway()
 {
   atomKK->sync(Host, V_MASK | X_MASK | TAG_MASK | MASK_MASK | TYPE_MASK);
+  k_state.sync_host();    // the densities, if no particle is too fast
   FixSPHJCThermal::report_runaway();
 }
 

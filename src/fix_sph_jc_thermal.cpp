@@ -410,12 +410,50 @@ void FixSPHJCThermal::report_runaway()
     info[5] = lim;
   }
   MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  if (glob.ratio < 0.0) report_density();
   MPI_Bcast(info, 6, MPI_DOUBLE, glob.rank, world);
   error->all(FLERR,
              "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) moves at {:.4g}, faster than vmax {:.4g} "
              "(default: its material's sound speed), at step {}: the solution has become unstable "
              "(see the fix's doc page, keyword vmax)",
              (bigint) info[0], info[1], info[2], info[3], info[4], info[5], update->ntimestep);
+}
+
+// no particle faster than vmax: the negative step came from a particle whose density is no longer
+// positive (or not a number), through the conduction limit rho cp h^2 / k; name the one with the
+// least density relative to its rho0
+void FixSPHJCThermal::report_density()
+{
+  const int *type = atom->type;
+  const int *mask = atom->mask;
+  const Material *mat = pair->materials();
+  struct {
+    double neg;    // -(rho / rho0): the largest is the least dense
+    int rank;
+  } loc = {-1.0e300, comm->me}, glob;
+  double info[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};    // tag, x, y, z, density, rho0
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit) || role_of(mask[i]) == TOOL) continue;
+    const double rho = state[i][RHO];
+    const double neg = rho == rho ? -rho / mat[type[i]].rho0 : 1.0e300;
+    if (neg <= loc.neg) continue;
+    loc.neg = neg;
+    info[0] = atom->tag[i];
+    for (int k = 0; k < 3; k++) info[1 + k] = atom->x[i][k];
+    info[4] = rho;
+    info[5] = mat[type[i]].rho0;
+  }
+  MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  MPI_Bcast(info, 6, MPI_DOUBLE, glob.rank, world);
+  if (!(info[4] > 0.0))
+    error->all(FLERR,
+               "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has density {:.4g} (rho0 {:.4g}) at "
+               "step {}: the solution has become unstable (a particle torn apart in tension; see pair_coeff "
+               "pmin)", (bigint) info[0], info[1], info[2], info[3], info[4], info[5], update->ntimestep);
+  error->all(FLERR,
+             "Fix sph/jc-thermal: the time step limit came back negative at step {}, with no particle faster "
+             "than vmax and none with a density <= 0 (least dense: particle {}, {:.4g} of rho0 {:.4g})",
+             update->ntimestep, (bigint) info[0], info[4], info[5]);
 }
 
 void FixSPHJCThermal::apply_dt(double dtnew)

@@ -245,12 +245,15 @@ TEST(PressureCutoff, StretchedBlock)
     EXPECT_NEAR(cut.fy[t], none.fy[t] * (-1.0e9 / p_eos), 1e-12 * fmax) << "atom " << t + 1;
   }
   // above pmin: the EOS
+  // (forces to round-off: under /kk with threads the sums' order varies between runs)
   const Result none3 = stretched("", 0.003), cut3 = stretched("-1e9", 0.003);
+  double fmax3 = 0.0;
+  for (size_t t = 0; t < none3.fx.size(); t++) fmax3 = std::max(fmax3, std::hypot(none3.fx[t], none3.fy[t]));
   for (size_t t = 0; t < none3.press.size(); t++) {
     EXPECT_NEAR(none3.press[t], -0.003 * K, 1e-9 * K);
     EXPECT_EQ(cut3.press[t], none3.press[t]);
-    EXPECT_EQ(cut3.fx[t], none3.fx[t]);
-    EXPECT_EQ(cut3.fy[t], none3.fy[t]);
+    EXPECT_NEAR(cut3.fx[t], none3.fx[t], 1e-12 * fmax3) << "atom " << t + 1;
+    EXPECT_NEAR(cut3.fy[t], none3.fy[t], 1e-12 * fmax3) << "atom " << t + 1;
   }
 }
 
