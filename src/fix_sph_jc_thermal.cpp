@@ -382,36 +382,52 @@ double FixSPHJCThermal::finish_dt(double dtloc)
   return dtnew;
 }
 
+// for an error message: the particle of the group (tool particles aside) with the largest score
+// above floor over all ranks; score(i, vals) gives particle i's score and its two values to
+// report; info gets its tag, x, y, z and those values on every rank.  Returns the largest score
+// (floor if no particle has more).
+double FixSPHJCThermal::worst_particle(const std::function<double(int, double *)> &score, double floor,
+                                       double *info)
+{
+  struct {
+    double score;
+    int rank;
+  } loc = {floor, comm->me}, glob;
+  for (int k = 0; k < 6; k++) info[k] = 0.0;
+  double vals[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit) || role_of(atom->mask[i]) == TOOL) continue;
+    const double sc = score(i, vals);
+    if (sc <= loc.score) continue;
+    loc.score = sc;
+    info[0] = atom->tag[i];
+    for (int k = 0; k < 3; k++) info[1 + k] = atom->x[i][k];
+    info[4] = vals[0];
+    info[5] = vals[1];
+  }
+  MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
+  MPI_Bcast(info, 6, MPI_DOUBLE, glob.rank, world);
+  return glob.score;
+}
+
 // a particle faster than vmax (sphcut::particle_dt gave -1): stop the run and name the fastest
 // one against its limit (host arrays; the /kk fix copies them there first)
 void FixSPHJCThermal::report_runaway()
 {
   double **v = atom->v;
-  double **x = atom->x;
-  const int *type = atom->type;
-  const int *mask = atom->mask;
   const Material *mat = pair->materials();
-  struct {
-    double ratio;
-    int rank;
-  } loc = {-1.0, comm->me}, glob;
-  double info[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};    // tag, x, y, z, speed, limit
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit) || role_of(mask[i]) == TOOL) continue;
-    const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
-    const double lim = sphcut::runaway_speed(mat[type[i]], vmax);
-    if (!(lim > 0.0) || vv <= lim) continue;
-    const double ratio = vv == vv ? vv / lim : 1.0e300;    // a speed that is not a number first
-    if (ratio <= loc.ratio) continue;
-    loc.ratio = ratio;
-    info[0] = atom->tag[i];
-    for (int k = 0; k < 3; k++) info[1 + k] = x[i][k];
-    info[4] = vv;
-    info[5] = lim;
-  }
-  MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
-  if (glob.ratio < 0.0) report_density();
-  MPI_Bcast(info, 6, MPI_DOUBLE, glob.rank, world);
+  double info[6];    // tag, x, y, z, speed, limit
+  const double worst = worst_particle(
+      [&](int i, double *vals) {
+        const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+        const double lim = sphcut::runaway_speed(mat[atom->type[i]], vmax);
+        if (!(lim > 0.0) || vv <= lim) return -1.0;
+        vals[0] = vv;
+        vals[1] = lim;
+        return vv == vv ? vv / lim : 1.0e300;    // a speed that is not a number first
+      },
+      -1.0, info);
+  if (worst < 0.0) report_density();
   error->all(FLERR,
              "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) moves at {:.4g}, faster than vmax {:.4g} "
              "(default: its material's sound speed), at step {}: the solution has become unstable "
@@ -424,27 +440,16 @@ void FixSPHJCThermal::report_runaway()
 // least density relative to its rho0
 void FixSPHJCThermal::report_density()
 {
-  const int *type = atom->type;
-  const int *mask = atom->mask;
   const Material *mat = pair->materials();
-  struct {
-    double neg;    // -(rho / rho0): the largest is the least dense
-    int rank;
-  } loc = {-1.0e300, comm->me}, glob;
-  double info[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};    // tag, x, y, z, density, rho0
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit) || role_of(mask[i]) == TOOL) continue;
-    const double rho = state[i][RHO];
-    const double neg = rho == rho ? -rho / mat[type[i]].rho0 : 1.0e300;
-    if (neg <= loc.neg) continue;
-    loc.neg = neg;
-    info[0] = atom->tag[i];
-    for (int k = 0; k < 3; k++) info[1 + k] = atom->x[i][k];
-    info[4] = rho;
-    info[5] = mat[type[i]].rho0;
-  }
-  MPI_Allreduce(&loc, &glob, 1, MPI_DOUBLE_INT, MPI_MAXLOC, world);
-  MPI_Bcast(info, 6, MPI_DOUBLE, glob.rank, world);
+  double info[6];    // tag, x, y, z, density, rho0
+  worst_particle(
+      [&](int i, double *vals) {
+        const double rho = state[i][RHO], rho0 = mat[atom->type[i]].rho0;
+        vals[0] = rho;
+        vals[1] = rho0;
+        return rho == rho ? -rho / rho0 : 1.0e300;    // -(rho / rho0): the largest is the least dense
+      },
+      -1.0e300, info);
   if (!(info[4] > 0.0))
     error->all(FLERR,
                "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has density {:.4g} (rho0 {:.4g}) at "

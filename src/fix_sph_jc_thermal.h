@@ -18,6 +18,7 @@ FixStyle(sph/jc-thermal,FixSPHJCThermal);
 #include "sphcut_solid.h"
 #include "sphcut_timer.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,7 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::A
   double vmax;                // runaway speed: < 0 the sound speed c_l (default), 0 none, > 0 this
   virtual void report_runaway();    // stop the run: a particle is faster than vmax
   void report_density();            // ... or its density is no longer positive
+  double worst_particle(const std::function<double(int, double *)> &score, double floor, double *info);
   double finish_dt(double dtloc);    // with the attached styles' limits, global min, dtmin/dtmax
   void apply_dt(double);
   double run_start;           // wall clock at the setup of the run
