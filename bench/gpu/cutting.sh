@@ -228,7 +228,7 @@ dump_modify snap sort id
 run 0
 EOI
   timeout ${CHIP_TIMEOUT:-590} "$BIN" $GPUK $NEV -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
-    -var xstart ${XSTARTC:-3} -var walltime ${CHIP_WALL:-0} -var thermoevery 5000 -var printevery 100 \
+    -var xstart ${XSTARTC:-3} -var walltime ${CHIP_WALL:-0} -var thermoevery 5000 -var printevery 100 ${CHIP_ARGS:-} \
     -log log.cutting > screen 2>&1 || tail -3 screen
   say "chip3d ny $ny nz $nz (free sides): $(grep '^Loop time' log.cutting | tail -2 | head -1)"
   say "  $(tail -1 forces.dat)"
