@@ -10,6 +10,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <memory>
 
@@ -78,14 +80,19 @@ TEST(Cutting, QuickTi6Al4V)
 TEST(Cutting, RestartContinuesTheCut)
 {
   const std::string in = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
-  auto run = [&](int steps, int cont) {
+  auto run = [&](int steps, int cont, int restartevery = 0) {
     auto l = std::make_unique<Lammps>();
     l->cmds({"variable ny index 11", "variable dumpevery index 0", "variable thermoevery index 1000",
-             "variable steps index " + std::to_string(steps), "variable continue index " + std::to_string(cont)});
+             "variable steps index " + std::to_string(steps), "variable continue index " + std::to_string(cont),
+             "variable restartevery index " + std::to_string(restartevery)});
     l->lmp->input->file(in.c_str());
     return l;
   };
-  auto ref = run(9000, 0);
+  // the reference also writes restart.a / restart.b every 4000 steps (-var restartevery): the
+  // one of step 8000 (restart.b) is the third split below
+  std::remove("restart.a");
+  std::remove("restart.b");
+  auto ref = run(9000, 0, 4000);
   const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), work = ref->equal("f_cut[13]");
   const double eint = ref->equal("f_sph[2]");
   std::map<int, std::array<double, 2>> xref;
@@ -95,10 +102,17 @@ TEST(Cutting, RestartContinuesTheCut)
   // split in contact (8000), and while the tool approaches (6000: the first step of the continued
   // run must not take the spring's limit the unsplit run did not take; it did, and the first
   // contact came 2 % off)
-  for (int split : {6000, 8000}) {
-    run(split, 0).reset();
-    auto cont = run(9000 - split, 1);
-    std::printf("[ restart  ] split at step %d\n", split);
+  for (int split : {6000, 8000, -8000}) {
+    if (split > 0) {
+      run(split, 0).reset();
+    } else {    // go on from the periodic restart file of step 8000
+      std::ifstream src("restart.b", std::ios::binary);
+      ASSERT_TRUE(src.good()) << "restartevery 4000 wrote no restart.b";
+      std::ofstream dst("restart.cutting", std::ios::binary);
+      dst << src.rdbuf();
+    }
+    auto cont = run(9000 - std::abs(split), 1);
+    std::printf("[ restart  ] split at step %d%s\n", std::abs(split), split < 0 ? " (restart.b of restartevery)" : "");
     EXPECT_EQ(cont->lmp->update->ntimestep, 9000);
     std::printf("[ restart  ] step 9000: Fc %.10g / %.10g N/mm, Ft %.10g / %.10g, tool work %.10g / %.10g\n", fc,
                 cont->equal("v_Fc"), ft, cont->equal("v_Ft"), work, cont->equal("f_cut[13]"));
