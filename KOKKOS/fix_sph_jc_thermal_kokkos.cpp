@@ -75,7 +75,7 @@ template <class DeviceType> struct SecondHalf {
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
   typename AT::t_double_1d_const dtlim;    // limit of an attached style (k_dtlim), when use_dtlim
   int groupbit, toolbit, clampbit, use_rmass, want_dt, use_dtlim, therm_bit, therm_every;
-  double dt, dtf, cfl, vmax, therm_F;
+  double dt, dtf, cfl, vmax, tmax, therm_F;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -111,7 +111,7 @@ template <class DeviceType> struct SecondHalf {
     r[0] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
     for (int d = 0; d < 3; d++) v(i, d) = vi[d];
     if (want_dt) {
-      const double d = sphcut::particle_dt(mat(t), role, h(t), vi, cfl, vmax);
+      const double d = sphcut::particle_dt(mat(t), role, h(t), vi, s[FixSPHJCThermal::TEMP], cfl, vmax, tmax);
       if (d < r[1]) r[1] = d;
     }
   }
@@ -248,7 +248,8 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
   auto h = d_h;
   auto dtlim = k_dtlim.template view<DeviceType>();
   const int gb = groupbit, tb = toolbit, cb = clampbit, use_dtlim = device_dt_limits();
-  const double c = cfl, vm = vmax;
+  auto st = k_state.template view<DeviceType>();
+  const double c = cfl, vm = vmax, tm = tmax;
   double dtloc = 1.0e300;
   Kokkos::parallel_reduce("sphcut:sph:stable_dt",
       sphcut::range<DeviceType>(0, atom->nlocal),
@@ -257,7 +258,8 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
         if (!(mask(i) & gb)) return;
         const double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
         const int t = type(i);
-        const double d = sphcut::particle_dt(mat(t), sphcut::role_from_mask(mask(i), tb, cb), h(t), vi, c, vm);
+        const double d = sphcut::particle_dt(mat(t), sphcut::role_from_mask(mask(i), tb, cb), h(t), vi,
+                                             st(i, FixSPHJCThermal::TEMP), c, vm, tm);
         if (d < m) m = d;
       },
       Kokkos::Min<double>(dtloc));
@@ -407,6 +409,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.dtf = dtf;
   k.cfl = cfl;
   k.vmax = vmax;
+  k.tmax = tmax;
   k.therm_bit = therm_bit;
   k.therm_every = therm_every;
   k.therm_F = thermal_cfl;

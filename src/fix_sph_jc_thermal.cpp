@@ -54,6 +54,7 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
   temp0 = -1.0;
   cfl = 0.0;
   vmax = -1.0;
+  tmax = -1.0;
   dtmax = 0.0;
   dtmin = 0.0;
   thermal_cfl = 0.1;
@@ -86,6 +87,13 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       else {
         vmax = utils::is_double(val) ? utils::numeric(FLERR, val, false, lmp) : -1.0;
         if (vmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: vmax must be > 0, sound or none, got {}", val);
+      }
+    } else if (kw == "tmax") {
+      if (strcmp(val, "none") == 0) tmax = 0.0;
+      else if (strcmp(val, "melt") == 0) tmax = -1.0;
+      else {
+        tmax = utils::is_double(val) ? utils::numeric(FLERR, val, false, lmp) : -1.0;
+        if (tmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: tmax must be > 0, melt or none, got {}", val);
       }
     } else if (kw == "dtmax") {
       dtmax = utils::numeric(FLERR, val, false, lmp);
@@ -364,7 +372,8 @@ double FixSPHJCThermal::stable_dt()
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const int it = type[i];
-    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i], cfl, vmax));
+    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i],
+                                                    state[i][TEMP], cfl, vmax, tmax));
   }
   return finish_dt(dtloc);
 }
@@ -382,12 +391,12 @@ double FixSPHJCThermal::finish_dt(double dtloc)
   return dtnew;
 }
 
-// for an error message: the particle of the group (tool particles aside) with the largest score
-// above floor over all ranks; score(i, vals) gives particle i's score and its two values to
+// for an error message: the particle of the group (tool particles only with with_tool) with the
+// largest score above floor over all ranks; score(i, vals) gives particle i's score and its two values to
 // report; info gets its tag, x, y, z and those values on every rank.  Returns the largest score
 // (floor if no particle has more).
 double FixSPHJCThermal::worst_particle(const std::function<double(int, double *)> &score, double floor,
-                                       double *info)
+                                       double *info, bool with_tool)
 {
   struct {
     double score;
@@ -396,7 +405,7 @@ double FixSPHJCThermal::worst_particle(const std::function<double(int, double *)
   for (int k = 0; k < 6; k++) info[k] = 0.0;
   double vals[2];
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & groupbit) || role_of(atom->mask[i]) == TOOL) continue;
+    if (!(atom->mask[i] & groupbit) || (!with_tool && role_of(atom->mask[i]) == TOOL)) continue;
     const double sc = score(i, vals);
     if (sc <= loc.score) continue;
     loc.score = sc;
@@ -427,11 +436,37 @@ void FixSPHJCThermal::report_runaway()
         return vv == vv ? vv / lim : 1.0e300;    // a speed that is not a number first
       },
       -1.0, info);
-  if (worst < 0.0) report_density();
+  if (worst < 0.0) {
+    report_temperature();
+    report_density();
+  }
   error->all(FLERR,
              "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) moves at {:.4g}, faster than vmax {:.4g} "
              "(default: its material's sound speed), at step {}: the solution has become unstable "
              "(see the fix's doc page, keyword vmax)",
+             (bigint) info[0], info[1], info[2], info[3], info[4], info[5], update->ntimestep);
+}
+
+// no particle faster than vmax: a particle hotter than tmax (tool particles too) stops the run
+// naming the hottest one against its limit; returns if there is none
+void FixSPHJCThermal::report_temperature()
+{
+  const Material *mat = pair->materials();
+  double info[6];    // tag, x, y, z, temperature, limit
+  const double worst = worst_particle(
+      [&](int i, double *vals) {
+        const double T = state[i][TEMP], lim = sphcut::runaway_temperature(mat[atom->type[i]], tmax);
+        if (!(lim > 0.0) || T <= lim) return -1.0;
+        vals[0] = T;
+        vals[1] = lim;
+        return T == T ? T / lim : 1.0e300;    // a temperature that is not a number first
+      },
+      -1.0, info, true);
+  if (worst < 0.0) return;
+  error->all(FLERR,
+             "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has temperature {:.4g}, above tmax {:.4g} "
+             "(default: twice its material's Tmelt), at step {}: the temperature solution has become unstable "
+             "(see the fix's doc page, keyword tmax)",
              (bigint) info[0], info[1], info[2], info[3], info[4], info[5], update->ntimestep);
 }
 

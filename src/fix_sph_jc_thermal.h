@@ -92,9 +92,12 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::A
   virtual double stable_dt(); // this step's stable dt (global min)
   virtual void check_close_pairs();    // warn about particles (nearly) on top of each other
   double vmax;                // runaway speed: < 0 the sound speed c_l (default), 0 none, > 0 this
+  double tmax;                // runaway temperature: < 0 twice Tmelt (default), 0 none, > 0 this
   virtual void report_runaway();    // stop the run: a particle is faster than vmax
+  void report_temperature();        // ... or hotter than tmax
   void report_density();            // ... or its density is no longer positive
-  double worst_particle(const std::function<double(int, double *)> &score, double floor, double *info);
+  double worst_particle(const std::function<double(int, double *)> &score, double floor, double *info,
+                        bool with_tool = false);
   double finish_dt(double dtloc);    // with the attached styles' limits, global min, dtmin/dtmax
   void apply_dt(double);
   double run_start;           // wall clock at the setup of the run

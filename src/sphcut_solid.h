@@ -122,16 +122,31 @@ SPHCUT_INLINE double runaway_speed(const Material &mt, double vmax)
   return vmax < 0.0 ? mt.cl : vmax;
 }
 
+/* the temperature above which a particle's temperature solution has run away (fix sph/jc-thermal
+   keyword tmax): tmax > 0 that temperature, 0 no limit, < 0 (the default) twice its material's
+   Johnson-Cook melting temperature Tmelt (no limit where none is given).  The flow stress
+   vanishes at Tmelt; 2 Tmelt (3756 K for Ti6Al4V) lies above the boiling points of the
+   engineering alloys, which only an unstable temperature solution reaches. */
+SPHCUT_INLINE double runaway_temperature(const Material &mt, double tmax)
+{
+  if (tmax >= 0.0) return tmax;
+  return mt.Tmelt > mt.Tref && mt.Tmelt < 1.0e29 ? 2.0 * mt.Tmelt : 0.0;
+}
+
 /* stable time step of one particle (adaptive dt, keyword cfl), mechanics:
      dt = cfl h / (c_l + |v|)        (not for tool particles)
    the conduction and contact limits come from fix heat/fmfs and fix contact/tri-penalty.
-   A particle faster than runaway_speed (or with a velocity that is not a number) gives -1,
-   which no step can be: the step's minimum carries the check for free, and the fix stops the
-   run naming the particle (FixSPHJCThermal::report_runaway) instead of letting it fly off and
-   fail later somewhere else ("Domain too large for neighbor bins"). */
-SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double cfl,
-                                 double vmax)
+   A particle faster than runaway_speed (or with a velocity that is not a number), or hotter than
+   runaway_temperature (or with a temperature that is not a number; tool particles too), gives
+   -1, which no step can be: the step's minimum carries the checks for free, and the fix stops
+   the run naming the particle (FixSPHJCThermal::report_runaway) instead of letting it fly off
+   and fail later somewhere else ("Domain too large for neighbor bins"), or heat up without
+   bound unnoticed. */
+SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const double *v, double T, double cfl,
+                                 double vmax, double tmax)
 {
+  const double tlim = runaway_temperature(mt, tmax);
+  if (tlim > 0.0 && !(T <= tlim)) return -1.0;
   if (role == SL::TOOL) return 1.0e300;
   const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   const double lim = runaway_speed(mt, vmax);

@@ -514,6 +514,62 @@ TEST(Runaway, FasterThanVmaxStopsTheRunNamingTheParticle)
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 vmax fast", "vmax must be > 0"));
 }
 
+// a particle hotter than tmax (default: twice its material's Johnson-Cook Tmelt) stops the run
+// with an error that names it, tool particles included, instead of heating up without bound
+// unnoticed (a 2D cut on a GPU went on with one particle at 63,000 K); tmax sets the
+// temperature, tmax none switches the check off, a material without Tmelt has no limit
+TEST(Runaway, HotterThanTmaxStopsTheRunNamingTheParticle)
+{
+  auto scene = [](Lammps &l, double T17, const std::string &fixargs, const std::string &mat = "Tref 300 Tmelt 1800") {
+    block2d(l, 8, 6, 1.0e-3, mat);
+    l.cmds({"unfix sph", "group hot id 17", "variable T0 atom 300+" + std::to_string(T17 - 300.0) + "*(id==17)",
+            "fix sph all sph/jc-thermal cfl 0.3 temp v_T0 " + fixargs});
+  };
+  {
+    Lammps l;
+    scene(l, 4000.0, "");
+    EXPECT_TRUE(l.error_contains("run 5", "particle 17 at ("));
+  }
+  {
+    Lammps l;
+    scene(l, 4000.0, "");
+    EXPECT_TRUE(l.error_contains("run 5", "has temperature 4000, above tmax 3600"));
+  }
+  {
+    Lammps l;    // a rigid tool particle is checked too (the speed check leaves tool particles out)
+    scene(l, 4000.0, "tool hot");
+    EXPECT_TRUE(l.error_contains("run 5", "particle 17 at (")) << "tool particle";
+  }
+  {
+    Lammps l;
+    scene(l, 1500.0, "tmax 1000");
+    EXPECT_TRUE(l.error_contains("run 5", "has temperature 1500, above tmax 1000")) << "tmax 1000";
+  }
+  {
+    Lammps l;
+    scene(l, 3500.0, "");    // below twice Tmelt: allowed
+    l.cmd("run 5");
+    EXPECT_EQ(l.lmp->update->ntimestep, 5);
+  }
+  for (const std::string args : {"tmax 5000", "tmax none"}) {
+    Lammps l;
+    scene(l, 4000.0, args);
+    l.cmd("run 5");
+    EXPECT_EQ(l.lmp->update->ntimestep, 5) << args;
+  }
+  {
+    Lammps l;    // no Tmelt: no thermal softening, no limit
+    scene(l, 1.0e5, "", "");
+    l.cmd("run 5");
+    EXPECT_EQ(l.lmp->update->ntimestep, 5) << "no Tmelt";
+  }
+  Lammps l;
+  block2d(l, 4, 4, 1.0e-3);
+  l.cmd("unfix sph");
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 tmax -1", "tmax must be > 0, melt or none, got -1"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 tmax hot", "tmax must be > 0, melt or none, got hot"));
+}
+
 // roles: rigid tool particles move with their own velocity and exert/feel no mechanics;
 // clamped particles keep their position while their neighbours move
 TEST(Roles, ToolAndClamped)
