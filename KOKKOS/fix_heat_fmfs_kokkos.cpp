@@ -438,7 +438,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
           const double aj =
               fw(j, 0) > 0.0 ? mat(jtype).kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(j, 1), mdx, ir2) : tij.brook;
           const double vj = (use_rmass ? av.rmass(j) : av.mass(jtype)) / av.st(j, F::RHO_F);
-          rate += vj * wfac * sphcut::conductance_mean(ai, aj) * (av.st(j, F::TEMP_F) - Ti);
+          rate += vj * wfac * sphcut::conductance_pair(ai, aj, tij.brook) * (av.st(j, F::TEMP_F) - Ti);
         }
         double dT = rate / (rhoi * mi.cp);
         const int is_surf = has_surf ? surf(i, CS::FLAG) > 0.5 : 0;

@@ -529,8 +529,9 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   }
   sphcut::forward_comm(comm, this);
 
-  // 2. the pairwise exchange with the mean of the two sides' weights: the conductance c_ij is
-  // symmetric, so a pair of two local particles is computed once and moves heat both ways
+  // 2. the pairwise exchange with the mean of the two sides' weights (Brookshaw's where the mean
+  // is anti-diffusive, sphcut::conductance_pair): the conductance c_ij is symmetric, so a pair
+  // of two local particles is computed once and moves heat both ways
   const int nlocal = atom->nlocal;
   if (rate_sum.size() < (size_t) nlocal) rate_sum.resize(atom->nmax);
   double *rate = rate_sum.data();    // rho cp dT/dt
@@ -561,7 +562,7 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
       const double ai = fi ? ki * sphcut::fmfs_pair_weight_radial<DIM>(wi, dx, nb_ir2[k]) : brook;
       const double aj =
           wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
-      const double c = nb_wfac[k] * sphcut::conductance_mean(ai, aj), dT = pk[5 * j + 4] - Ti;
+      const double c = nb_wfac[k] * sphcut::conductance_pair(ai, aj, brook), dT = pk[5 * j + 4] - Ti;
       ri += pk[5 * j + 3] * c * dT;
       if (j < nlocal) rate[j] -= Vi * c * dT;
     }

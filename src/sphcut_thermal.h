@@ -339,7 +339,7 @@ SPHCUT_INLINE bool fmfs_laplacian(const FmfsAccum<DIM> &acc, double &lap, double
 // stores Gf (DIM x DIM, row-major) and z in wts[0 .. DIM*DIM + DIM - 1]; returns false
 // where fmfs_laplacian would (singular B or G system).  The pair weights let the
 // conservative form of fix heat/fmfs exchange heat pairwise with the mean weight
-// (w_ij + w_ji)/2 (see conductance_fmfs): equal to FMFS wherever the two
+// (w_ij + w_ji)/2 (see conductance_mean, conductance_pair): equal to FMFS wherever the two
 // particles' weights agree (interior of a regular arrangement: exactly).
 template <int DIM>
 SPHCUT_INLINE bool fmfs_weights(const FmfsAccum<DIM> &acc, double *wts, double tol = SPHCUT_FMFS_TOL)
@@ -408,6 +408,22 @@ SPHCUT_INLINE double fmfs_pair_weight(const double *wts, const double *r, const 
 SPHCUT_INLINE double conductance_mean(double s_ij, double s_ji)
 {
   return 0.5 * (s_ij + s_ji);
+}
+
+// the pair's conductance over wfac as the exchange uses it: conductance_mean, unless that has
+// the anti-diffusive sign, then Brookshaw's (brook = -2 kbar, ThermalPair::brook).  The FMFS
+// weights of a strongly disordered support (jittered lattice, 0.4-0.5 dx) can give a pair a
+// conductance of the wrong sign, up to -47 times Brookshaw's: heat then flows from cold to
+// hot, and a few such pairs give the semi-discrete operator a growing mode (rate up to
+// 2 k/(rho cp h^2) measured, independent of dt).  With every c_ij of the diffusive sign the
+// exchange is a weighted graph Laplacian, negative semidefinite for any arrangement (maximum
+// principle of the semi-discrete system).  Symmetric in i, j (brook is), so sum m cp T stays
+// conserved exactly.  wfac <= 0 for all kernels, so c_ij = wfac * this is >= 0 when this has
+// the sign of brook (<= 0); a regular lattice has no such pair (unchanged there).
+SPHCUT_INLINE double conductance_pair(double s_ij, double s_ji, double brook)
+{
+  const double c = conductance_mean(s_ij, s_ji);
+  return c * brook >= 0.0 ? c : brook;
 }
 
 // ---------------------------------------------------------------------------

@@ -25,7 +25,7 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   double x[3] = {s[1], s[2], s[3]}, v[3] = {s[4], s[5], s[6]}, f[3] = {s[7], s[8], s[9]};
   integrate_first_half(mat[0], 0, 1e-9, 1.0, x, v, f, s);
   out[0] = integrate_second_half(mat[0], 0, 1e-9, 1.0, 1.0, v, f, s);
-  out[1] = particle_dt(mat[0], 0, 1e-4, v, 0.3, -1.0);
+  out[1] = particle_dt(mat[0], 0, 1e-4, v, s[20], 0.3, -1.0, -1.0);
   zero_rates(s);
   FmfsAccum<3> a3; fmfs_zero<3>(a3);
   double r[3] = {s[10], s[11], s[12]}, gg[3] = {s[13], s[14], s[15]}, wts[12], lap;
@@ -44,7 +44,8 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
     support_add_fmfs<3>(m3, dx, -wfac, ir2);
   }
   support_to_fmfs<3>(m3, a3);
-  out[5] = support_surface<3>(m3, 0.75, n) + fmfs_pair_weight_radial<3>(wts, dx, ir2) + tp.same_kappa;
+  out[5] = support_surface<3>(m3, 0.75, n) + fmfs_pair_weight_radial<3>(wts, dx, ir2) + tp.same_kappa +
+           conductance_pair(s[21], s[22], tp.brook);
   surface_losses(3, 1.0, 300.0, 1.0, 300.0, 1.0, 300.0, qc, qr);
   int e = tool_surface(g, x, 1e-4, d, n, q);
   ContactIn ci = cin[0]; ContactOut co;
