@@ -81,20 +81,17 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
     } else if (kw == "cfl") {
       cfl = utils::numeric(FLERR, val, false, lmp);
       if (cfl <= 0.0 || cfl > 1.0) error->all(FLERR, "Fix sph/jc-thermal: cfl must be in (0,1], got {}", cfl);
-    } else if (kw == "vmax") {
-      if (strcmp(val, "none") == 0) vmax = 0.0;
-      else if (strcmp(val, "sound") == 0) vmax = -1.0;
+    } else if (kw == "vmax" || kw == "tmax") {
+      // a runaway limit: a positive number, none (0) or the material's own (-1: sound / melt)
+      const char *own = kw == "vmax" ? "sound" : "melt";
+      double lim;
+      if (strcmp(val, "none") == 0) lim = 0.0;
+      else if (strcmp(val, own) == 0) lim = -1.0;
       else {
-        vmax = utils::is_double(val) ? utils::numeric(FLERR, val, false, lmp) : -1.0;
-        if (vmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: vmax must be > 0, sound or none, got {}", val);
+        lim = utils::is_double(val) ? utils::numeric(FLERR, val, false, lmp) : -1.0;
+        if (lim <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: {} must be > 0, {} or none, got {}", kw, own, val);
       }
-    } else if (kw == "tmax") {
-      if (strcmp(val, "none") == 0) tmax = 0.0;
-      else if (strcmp(val, "melt") == 0) tmax = -1.0;
-      else {
-        tmax = utils::is_double(val) ? utils::numeric(FLERR, val, false, lmp) : -1.0;
-        if (tmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: tmax must be > 0, melt or none, got {}", val);
-      }
+      (kw == "vmax" ? vmax : tmax) = lim;
     } else if (kw == "dtmax") {
       dtmax = utils::numeric(FLERR, val, false, lmp);
       if (dtmax <= 0.0) error->all(FLERR, "Fix sph/jc-thermal: dtmax must be > 0, got {}", dtmax);
@@ -391,10 +388,10 @@ double FixSPHJCThermal::finish_dt(double dtloc)
   return dtnew;
 }
 
-// for an error message: the particle of the group (tool particles only with with_tool) with the
-// largest score above floor over all ranks; score(i, vals) gives particle i's score and its two values to
-// report; info gets its tag, x, y, z and those values on every rank.  Returns the largest score
-// (floor if no particle has more).
+// for an error message: the particle of the group (tool particles only with with_tool) with
+// the largest score above floor over all ranks; score(i, vals) gives particle i's score and its
+// two values to report; info gets its tag, x, y, z and those values on every rank.  Returns the
+// largest score (floor if no particle has more).
 double FixSPHJCThermal::worst_particle(const std::function<double(int, double *)> &score, double floor,
                                        double *info, bool with_tool)
 {

@@ -44,7 +44,7 @@ template <int DIM> int run(int n, double hdx, double jit, unsigned seed, double 
     x.insert(x.end(), p, p + 3);
   }
   const int N = x.size() / 3;
-  const double h = hdx, V = DIM == 2 ? 1.0 : 1.0, kappa = 1.0, rhocp = 1.0;
+  const double h = hdx, V = 1.0, kappa = 1.0, rhocp = 1.0;    // dx = 1: V = dx^DIM = 1
   ThermalPair tp = thermal_pair(KERNEL_CUBIC, DIM, h, kappa, kappa);
   std::vector<double> wts(N * (DIM * DIM + DIM), 0.0);
   std::vector<int> fm(N, 0), surf(N, 0);
