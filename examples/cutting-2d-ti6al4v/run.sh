@@ -10,7 +10,7 @@ here="$(cd "$(dirname "$0")" && pwd)"
 NY="${NY:-11}"; CUT="${CUT:-0.3e-3}"; NP="${NP:-$(nproc)}"
 HDX="${HDX:-0}"
 mpirun -np "$NP" $LMP -in "$here/in.cutting" -var ny "$NY" -var cut "$CUT" -var hdx "$HDX" -var dumpevery 1000 -var thermoevery 4000 \
-  -log log.cutting | awk '/^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time/{print}'
+  -log log.cutting | awk '/^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time|WARNING/{print}'
 # Debian's python3 has numpy and matplotlib (tools/build-deps.sh installs them)
 PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
 $PY "$here/steady.py"
