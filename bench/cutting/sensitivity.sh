@@ -21,7 +21,7 @@ IN="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
 NAMES=(base memory coulomb centre pfac0.3 pfac3 dfac0 dfac1 split1 mu0.65 mu0.65-memory
        vreg0.1% vreg10% av0.1 av0.5 av2 xsph0 xsph1 clamp-left-half clamp-bottom hg0.1 hg1)
 # run only when named in ONLY: the hourglass control with the other variants
-EXTRA_NAMES=(hg0.1-mu0.65 hg0.1-pfac3 dtfac0.3 dtfac0.5 cfl0.45-dtfac0.5)
+EXTRA_NAMES=(hg0.1-mu0.65 hg0.1-pfac3 dtfac0.3 dtfac0.5 cfl0.45-dtfac0.5 pfac10 pfac30)
 declare -A VARIANTS=(
   [base]=""                                  # static-limit friction (stick yes), mu 0.35, split auto
   [memory]="-var friction memory"            # friction with memory (elastic predictor, alpha 0.1)
@@ -29,6 +29,8 @@ declare -A VARIANTS=(
   [centre]="-var sfac 1e6"                   # contact at the particle centre (offset 0.5 h/sfac -> 0)
   [pfac0.3]="-var pfac 0.3"
   [pfac3]="-var pfac 3"
+  [pfac10]="-var pfac 10"                    # is Ft converged in the penalty stiffness?
+  [pfac30]="-var pfac 30"
   [dfac0]="-var dfac 0"
   [dfac1]="-var dfac 1"
   [split1]="-var split 1"                    # all friction heat into the workpiece (seed 003)
