@@ -9,6 +9,8 @@
 #   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
 #   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces; in
 #            segments with CUT_END (restart files, continued by the next call)
+#   lowspeed the low-speed case (seed 003 sec. 5.2.2: vc 20 m/min, 0.3 mm of cut) at NY across with
+#            cut2d's segments and CUT_ARGS: the mean rake-face temperature (measured about 680 K)
 #   watch    the 2D cut at NY across until a particle runs away: the state, its history, GPU vs CPU
 #   scale    MPI scaling of the CPU styles, 2D cut at 41 and 81 across, 1-16 ranks
 #   slab     2D vs 3D periodic slab (plane strain) at NYS (default 11) across over CUTS (0.3e-3 m):
@@ -120,6 +122,16 @@ cut2d() {
   cd "$ROOT"
 }
 
+# the low-speed case (examples/cutting-2d-ti6al4v/run-lowspeed.sh) on the GPU: cut2d with vc 20
+# m/min over 0.3 mm, in its own folder (cut2d-NY-low<tag>), then the mean rake-face temperature
+lowspeed() {
+  local ny=${NY:-21}
+  CUT=0.3e-3 CUT_ARGS="-var vc 20 ${CUT_ARGS:-}" CUT_TAG="-low${CUT_TAG:-}" cut2d
+  cd $W/cut2d-$ny-low${CUT_TAG:-}
+  say "  lowspeed ny $ny: $(python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" --temperature 2>&1 | tail -1)"
+  cd "$ROOT"
+}
+
 # a run that blows up: the 2D cut at NY across with a watchdog (stop when a particle is faster than
 # VBAD m/s, checked every 100 steps; restart files every 2000 steps, two alternating), the state
 # at the stop (final.dump), then from the older restart file the same steps again on the GPU with
@@ -175,19 +187,20 @@ watch() {
 # SCALE_LB=rcb: the example's -var balance rcb instead of shift
 scale() {
   mkdir -p $W/scale; cd $W/scale
-  local ny np
+  local ny np lb=${SCALE_LB:-shift}
   for ny in ${SCALE_NY:-41 81}; do
     local t1=""
     for np in 1 2 4 8 16; do
-      timeout 200 mpirun -np $np "$BIN" -in "$EX2" -var ny $ny -var xstart 0.6 -var steps ${SCALE_STEPS:-400} -var balance ${SCALE_LB:-shift} \
-        -var thermoevery 100 -var printevery 100 -var dumpevery 0 -log log.$ny.$np > screen.$ny.$np 2>&1 || tail -3 screen.$ny.$np
-      local t; t=$(awk '/^Loop time/{t=$4} END{print t}' log.$ny.$np)
+      local lg=log.$ny.$np.$lb
+      timeout 200 mpirun -np $np "$BIN" -in "$EX2" -var ny $ny -var xstart 0.6 -var steps ${SCALE_STEPS:-400} -var balance $lb \
+        -var thermoevery 100 -var printevery 100 -var dumpevery 0 ${SCALE_ARGS:-} -log $lg > screen.$ny.$np 2>&1 || tail -3 screen.$ny.$np
+      local t; t=$(awk '/^Loop time/{t=$4} END{print t}' $lg)
       [ -z "$t1" ] && t1=$t
-      say "scale ny $ny np $np: $(grep '^Loop time' log.$ny.$np | tail -1); efficiency $(awk -v a=$t1 -v b=$t -v n=$np 'BEGIN{printf "%.0f %%", 100*a/(n*b)}')"
-      grep -A1 "^Loop time" log.$ny.$np >/dev/null
-      awk '/^Per MPI rank memory/{next} /Nlocal:/{print "    " $0}' log.$ny.$np | tail -1 >> "$SUM"
+      say "scale ny $ny np $np balance $lb: $(grep '^Loop time' $lg | tail -1); efficiency $(awk -v a=$t1 -v b=$t -v n=$np 'BEGIN{printf "%.0f %%", 100*a/(n*b)}')"
+      awk '/^Per MPI rank memory/{next} /Nlocal:/{print "    " $0}' $lg | tail -1 >> "$SUM"
     done
   done
+  mkdir -p "$OUT/scale" && cp log.* "$OUT/scale/"
   cd "$ROOT"
 }
 
