@@ -18,6 +18,8 @@
 #   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s
 #   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut (or CHIP_WALL
 #            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py
+#   peer     the peer code (../shared/peer/, its binary in .carry/peer/) and sphcut on the seed-003
+#            case at PEER_NY (41) across over 0.907 mm, one after the other: time, us/step, forces
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -291,6 +293,45 @@ prof() {
   PROF_GPUK="$GPUK neigh/thread on" prof_run p3dteam "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
   KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.3d.txt prof_run p3dkp "$EX3" -var ny 41 -var nz $nz -var steps ${PROF_STEPS3:-300} $NEV
   head -24 $W/kp.3d.txt | sed 's/^/    /' >> "$SUM"
+  cd "$ROOT"
+}
+
+# the peer (ETH IWF's 2D GPU cutting code, ../shared/peer/: its binary travels in .carry/peer/,
+# copied there with  mkdir -p .carry/peer && cp ../shared/peer/ul_cut_gpu/bin/mfree_gpu .carry/peer/)
+# and sphcut side by side on the seed-003 case at PEER_NY (default 41) across over the peer's cut
+# (its tool travels 1 mm from 0.093 mm before the workpiece: 0.907 mm of cut), one after the other
+# on the same GPU.  sphcut runs the README's GPU command with dumps off, once per setting in
+# PEER_SETS (';'-separated lists of -var settings; "default" is none); each line prints particles,
+# steps, wall time, us/step, Fc/Ft over 0.3-0.907 mm of cut and the time against the peer's.
+peer() {
+  local ny=${PEER_NY:-41} bin="$ROOT/.carry/peer/mfree_gpu"
+  [ -x "$bin" ] || { say "peer: no $bin (copy ../shared/peer/ul_cut_gpu/bin/mfree_gpu into .carry/peer/)"; return 1; }
+  mkdir -p $W/peer$ny && cd $W/peer$ny
+  local t0; t0=$(date +%s.%N)
+  LD_LIBRARY_PATH=/usr/local/nvidia/lib64:${LD_LIBRARY_PATH:-} timeout 400 "$bin" -r 0 -c 7 -f 0.00028 \
+    -v 0.000530833299 -n $ny -q 0.01 > screen 2>&1 || tail -3 screen
+  local wall; wall=$(awk -v a="$(date +%s.%N)" -v b=$t0 'BEGIN{print a - b}')
+  local gpu; gpu=$(awk '/^gpu time/{print $4}' screen)
+  # 136 rows, row i at i/135 mm of tool travel = i/135 - 0.093 mm of cut; 1e6 N/mm per unit, Fc = +x, Ft = -y
+  local f; f=$(awk '{c = NR - 1; cut = c / 135 - 0.093; if (cut >= 0.3) {n++; fc += $1; ft -= $2}}
+    END{printf "Fc %.1f Ft %.1f N/mm over 0.3-0.907 mm (%d rows)", 1e6 * fc / n, 1e6 * ft / n, n}' results/force_*)
+  local steps; steps=$(grep -o "of [0-9]*:" screen | tail -1 | tr -dc 0-9)
+  say "peer ny $ny: wall $(printf %.1f $wall) s (its loop, dumps included: $gpu s), $steps steps, $(awk -v t=$gpu -v n=$steps 'BEGIN{printf "%.0f us/step", 1e6*t/n}'); $f"
+  local sets="${PEER_SETS:-default;-var cfl 0.45 -var dtfac 0.5}" set
+  IFS=';' read -ra sets <<< "$sets"
+  for set in "${sets[@]}"; do
+    local args="$set" tag; [ "$set" = default ] && args=""
+    tag=$(echo "${set:-default}" | tr -c 'a-zA-Z0-9.\n' '_')
+    mkdir -p $W/peer$ny/s-$tag && cd $W/peer$ny/s-$tag
+    t0=$(date +%s.%N)
+    timeout 580 "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut 0.907e-3 -var thermoevery 10000 -var printevery 100 \
+      -var dumpevery 0 $args -log log.cutting > screen 2>&1 || tail -3 screen
+    local w; w=$(awk -v a="$(date +%s.%N)" -v b=$t0 'BEGIN{print a - b}')
+    local ff; ff=$(awk '!/^#/ && $3 >= 0.3 {n++; fc += $4; ft += $5} END{printf "Fc %.1f Ft %.1f N/mm over 0.3-0.907 mm (%d rows)", fc / n, ft / n, n}' forces.dat)
+    say "sphcut ny $ny [$set]: wall $(printf %.1f $w) s = $(awk -v a=$w -v b=$wall 'BEGIN{printf "%.2f", a / b}')x the peer's; $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, loop %.1f s, %.0f us/step", a, n, t, 1e6*t/n}' log.cutting); $ff"
+    cp log.cutting "$OUT/peer-log.$tag" 2>/dev/null
+  done
+  cp $W/peer$ny/results/force_* "$OUT/peer-force.dat" 2>/dev/null
   cd "$ROOT"
 }
 
