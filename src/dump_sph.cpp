@@ -27,6 +27,9 @@
 #include "output.h"
 #include "utils.h"
 
+#include "sphcut_checks.h"
+
+#include <cstring>
 #include <map>
 
 using namespace LAMMPS_NS;
@@ -68,6 +71,7 @@ struct ColumnsAccess : public DumpCustom {
 void DumpSPH::command(int narg, char **arg)
 {
   if (narg < 5) error->all(FLERR, "Illegal dump_sph command: dump_sph ID group-ID N file field ...");
+  sphcut::parse_int(lmp, "dump_sph", "N (the output interval)", arg[2]);    // dump custom would wrap it
 
   // the first style providing each source, found by name
   const char *srcstyle[3] = {"sph/jc-thermal", "surface/lambda", "contact/tri-penalty"};

@@ -31,6 +31,7 @@
 #include "update.h"
 #include "variable.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_contact.h"
 #include "sphcut_kernels.h"
@@ -86,7 +87,8 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
         if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" &&
             k != "flank_length" && k != "width" && k != "segments")
           break;
-        num(1);    // a LAMMPS error here if the value is not a number
+        if (k == "segments") sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert segments", arg[iarg + 1]);
+        else num(1);    // a LAMMPS error here if the value is not a number
         gargs.push_back(k);
         gargs.push_back(arg[iarg + 1]);
         iarg += 2;
@@ -234,9 +236,8 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       iarg += 3;
     } else if (kw == "write") {
       need(2, kw);
-      write_every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      write_every = sphcut::parse_int(lmp, "Fix contact/tri-penalty", "write interval", arg[iarg + 1]);
       write_file = arg[iarg + 2];
-      if (write_every < 1) error->all(FLERR, "Fix contact/tri-penalty: write interval must be >= 1, got {}", write_every);
       if (!utils::strmatch(write_file, "\\.vtk$") && !utils::strmatch(write_file, "\\.stl$"))
         error->all(FLERR, "Fix contact/tri-penalty: write file {} must end in .vtk or .stl", write_file);
       iarg += 3;

@@ -108,8 +108,7 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       else if (strcmp(val, "no") == 0) fence = 0;
       else error->all(FLERR, "Fix sph/jc-thermal: fence must be yes or no, got {}", val);
     } else if (kw == "peratom_every") {
-      peratom_every = utils::inumeric(FLERR, val, false, lmp);
-      if (peratom_every < 1) error->all(FLERR, "Fix sph/jc-thermal: peratom_every must be >= 1, got {}", peratom_every);
+      peratom_every = sphcut::parse_int(lmp, "Fix sph/jc-thermal", kw, val);
     } else {
       error->all(FLERR, "Fix sph/jc-thermal: unknown keyword {}", kw);
     }

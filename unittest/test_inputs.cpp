@@ -1,0 +1,124 @@
+// Inputs that crashed or were accepted silently (issue 23): a tool velocity variable that is
+// NaN or infinite, integer keywords beyond the range of int (LAMMPS 29Sep2021's
+// utils::inumeric wraps them: every 10000000000 became 1410065408), particles that start on a
+// tool face, fix heat/fmfs without an initial temperature, and the messages of dump_sph (an
+// unknown field) and of the runaway check (a temperature or velocity that is not a number).
+// Compiled twice: test_inputs (CPU styles) and test_inputs_kk (every instance with
+// -k on t 2 -sf kk, the /kk styles where there is one).
+#include "sphcut_test.h"
+
+#include "fix_sph_jc_thermal.h"
+#include "sphcut_stl.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using sphcut_test::box_triangles;
+using sphcut_test::Lammps;
+using F = LAMMPS_NS::FixSPHJCThermal;
+
+namespace {
+
+// the fix ID is the /kk variant in test_inputs_kk, the CPU style in test_inputs
+void expect_variant(Lammps &l, const char *id)
+{
+  const int ifix = l.lmp->modify->find_fix(id);
+  ASSERT_GE(ifix, 0) << id;
+#ifdef SPHCUT_TEST_KOKKOS
+  EXPECT_EQ(l.lmp->modify->fix[ifix]->kokkosable, 1) << id;
+#else
+  EXPECT_EQ(l.lmp->modify->fix[ifix]->kokkosable, 0) << id;
+#endif
+}
+
+// a value that LAMMPS' variables evaluate without an error: inf - inf
+const char *NAN_EXPR = "(1e300*1e300)-(1e300*1e300)";
+
+// the switches of every instance plus a log file
+std::vector<std::string> with_log(const std::string &log)
+{
+  std::vector<std::string> s = sphcut_test::default_switches();
+  s.push_back("-log");
+  s.push_back(log);
+  return s;
+}
+
+std::string read_file(const std::string &file)
+{
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string log_of(Lammps &l, const std::string &file)
+{
+  fflush(l.lmp->logfile);
+  return read_file(file);
+}
+
+// the tool plate: top face y = 0, |x|, |z| <= 20 mm
+void write_plate()
+{
+  const double lo[3] = {-0.02, -0.005, -0.02}, hi[3] = {0.02, 0.0, 0.02};
+  sphcut::write_stl_ascii("plate.stl", box_triangles(lo, hi), "plate");
+}
+
+// a 2D steel block of nx x ny particles (spacing 1 mm) with its lower row at y = y0, SI units;
+// extra: more pair_coeff values, fixargs: more fix sph/jc-thermal keywords
+void block(Lammps &l, int nx, int ny, double y0, const std::string &extra = "", const std::string &fixargs = "")
+{
+  char region[200];
+  snprintf(region, sizeof(region), "region blk block -0.1e-3 %.6g %.17g %.17g -0.5e-3 0.5e-3 units box",
+           (nx - 0.9) * 1.0e-3, y0 - 0.1e-3, y0 + (ny - 0.9) * 1.0e-3);
+  char shift[200];
+  snprintf(shift, sizeof(shift), "lattice sq 1e-3 origin 0 %.17g 0", y0 / 1.0e-3 - std::floor(y0 / 1.0e-3));
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3 units box", "create_box 1 box", shift, region,
+          "create_atoms 1 region blk", "mass 1 7.8e-3", "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 " + extra,
+          "fix sph all sph/jc-thermal " + fixargs, "timestep 1e-8"});
+}
+
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   4. integer keywords of every sphcut style: a value beyond int is an out-of-range error
+   naming the keyword and the value (it wrapped silently: 10000000000 -> 1410065408,
+   4294967297 -> 1); a non-integer one is an error naming the keyword
+------------------------------------------------------------------------- */
+
+TEST(IntegerKeywords, OutOfRangeIsAnError)
+{
+  write_plate();
+  Lammps l;
+  block(l, 3, 2, 1.0e-3, "k 10 cp 500");
+  const std::string big = "10000000000", wraps1 = "4294967297";
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs every " + big,
+                               "Fix heat/fmfs: every must be <= 2147483647, got 10000000000 (out of range)"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs every " + wraps1, "every must be <= 2147483647, got 4294967297"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs every 99999999999999999999999", "(out of range)"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs every 2.5", "Fix heat/fmfs: every must be an integer, got 2.5"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs every -" + big, "every must be >= 1, got -10000000000"));
+  EXPECT_TRUE(l.error_contains("compute s all surface/lambda every " + big,
+                               "Compute surface/lambda: every must be <= 2147483647, got 10000000000"));
+  EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl write " + wraps1 + " tool.vtk",
+                               "Fix contact/tri-penalty: write interval must be <= 2147483647, got 4294967297"));
+  const std::string insert = "fix tool all contact/tri-penalty insert rake 0 clearance 7 radius 0.1e-3 "
+                             "rake_length 2e-3 flank_length 2e-3 segments ";
+  EXPECT_TRUE(l.error_contains(insert + big, "insert segments must be <= 2147483647, got 10000000000"));
+  EXPECT_TRUE(l.error_contains(insert + "2.5", "insert segments must be an integer, got 2.5"));
+  EXPECT_TRUE(l.error_contains("dump_sph d all " + big + " dump.x id density",
+                               "dump_sph: N (the output interval) must be <= 2147483647, got 10000000000"));
+  l.cmd("unfix sph");
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal peratom_every " + wraps1,
+                               "Fix sph/jc-thermal: peratom_every must be <= 2147483647, got 4294967297"));
+  // the largest int is accepted
+  l.cmds({"fix sph all sph/jc-thermal peratom_every 2147483647", "fix heat all heat/fmfs every 2147483647"});
+}
+
