@@ -88,6 +88,59 @@ void block(Lammps &l, int nx, int ny, double y0, const std::string &extra = "", 
 }    // namespace
 
 /* ----------------------------------------------------------------------
+   1. the tool velocity from an equal-style variable that is NaN or infinite: an error naming
+   the variable, its component and its value, at the setup and at a later step (the contact fix
+   crashed with a segmentation fault in the closest-element search on the NaN tool position)
+------------------------------------------------------------------------- */
+
+TEST(ContactVelocity, NotANumberIsAnError)
+{
+  write_plate();
+  {
+    Lammps l;
+    block(l, 3, 2, 1.0e-3);
+    l.cmds({std::string("variable vt equal ") + NAN_EXPR, "fix tool all contact/tri-penalty stl plate.stl velocity v_vt 0 0"});
+    expect_variant(l, "tool");
+    EXPECT_TRUE(l.error_contains("run 0", "Fix contact/tri-penalty: velocity variable vt (x component) is not a "
+                                          "number (NaN) at step 0: the tool velocity must be a finite number"));
+  }
+  {
+    Lammps l;
+    block(l, 3, 2, 1.0e-3);
+    l.cmds({"variable vy equal -1e300*1e300", "fix tool all contact/tri-penalty stl plate.stl velocity 0 v_vy 0"});
+    EXPECT_TRUE(l.error_contains("run 0", "velocity variable vy (y component) is -inf at step 0"));
+  }
+  {
+    // finite until step 5, then NaN: the run stops there, the tool having moved 5 steps
+    Lammps l;
+    block(l, 3, 2, 1.0e-3);
+    l.cmds({"variable vt equal -2.0+(step>=5)*1e300*1e300-(step>=5)*1e300*1e300",
+            "fix tool all contact/tri-penalty stl plate.stl velocity v_vt 0 0"});
+    EXPECT_TRUE(l.error_contains("run 20", "velocity variable vt (x component) is not a number (NaN) at step 5"));
+    EXPECT_EQ(l.lmp->update->ntimestep, 5);
+    EXPECT_NEAR(l.equal("f_tool[8]"), -2.0 * 5 * 1.0e-8, 1e-20);    // the tool's displacement, x
+  }
+  {
+    // a constant that utils::numeric reads as inf
+    Lammps l;
+    block(l, 3, 2, 1.0e-3);
+    EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl velocity 1e999 0 0",
+                                 "Fix contact/tri-penalty: velocity 1e999 is not a finite number"));
+  }
+#ifndef SPHCUT_TEST_KOKKOS
+  {
+    // the friction coefficient from a variable (CPU only: refused under /kk) that is NaN: it was
+    // taken as 0 (no friction) silently
+    Lammps l;
+    block(l, 3, 2, 0.3e-3);
+    l.cmds({"variable T internal 0", std::string("variable mu equal v_T*0+") + NAN_EXPR,
+            "fix tool all contact/tri-penalty stl plate.stl mu v_mu tvar T"});
+    EXPECT_TRUE(l.error_contains("run 0", "Fix contact/tri-penalty: mu variable mu is not a number (NaN) at T = 300"));
+  }
+#endif
+}
+
+/* ----------------------------------------------------------------------
    4. integer keywords of every sphcut style: a value beyond int is an out-of-range error
    naming the keyword and the value (it wrapped silently: 10000000000 -> 1410065408,
    4294967297 -> 1); a non-integer one is an error naming the keyword
@@ -120,5 +173,44 @@ TEST(IntegerKeywords, OutOfRangeIsAnError)
                                "Fix sph/jc-thermal: peratom_every must be <= 2147483647, got 4294967297"));
   // the largest int is accepted
   l.cmds({"fix sph all sph/jc-thermal peratom_every 2147483647", "fix heat all heat/fmfs every 2147483647"});
+}
+
+/* ----------------------------------------------------------------------
+   5. particles that start exactly on a tool face (distance 0) have the full contact radius as
+   penetration, as those just inside: the warning about particles inside the tool counts them
+------------------------------------------------------------------------- */
+
+TEST(StartOnTool, ParticlesOnTheFaceAreWarnedAbout)
+{
+  write_plate();
+  {
+    // a 4 x 3 block whose lower row (4 particles) lies on the face y = 0
+    Lammps l(MPI_COMM_WORLD, with_log("onface.log"));
+    block(l, 4, 3, 0.0);
+    l.cmds({"fix tool all contact/tri-penalty stl plate.stl", "run 0"});
+    expect_variant(l, "tool");
+    const std::string log = log_of(l, "onface.log");
+    EXPECT_NE(log.find("WARNING: Fix contact/tri-penalty: 4 particle(s) start inside the tool or on its surface "
+                       "(4 on it); the contact throws them out at high speed"),
+              std::string::npos)
+        << log;
+  }
+  {
+    // one row inside, one on the face: the count and the deepest
+    Lammps l(MPI_COMM_WORLD, with_log("onface.log"));
+    block(l, 4, 3, -1.0e-3);
+    l.cmds({"fix tool all contact/tri-penalty stl plate.stl", "run 0"});
+    const std::string log = log_of(l, "onface.log");
+    EXPECT_NE(log.find("8 particle(s) start inside the tool or on its surface (4 on it, the deepest 0.001 below it)"),
+              std::string::npos)
+        << log;
+  }
+  {
+    // the block one contact radius above the face: no warning
+    Lammps l(MPI_COMM_WORLD, with_log("onface.log"));
+    block(l, 4, 3, 0.6e-3);
+    l.cmds({"fix tool all contact/tri-penalty stl plate.stl", "run 0"});
+    EXPECT_EQ(log_of(l, "onface.log").find("inside the tool"), std::string::npos);
+  }
 }
 
