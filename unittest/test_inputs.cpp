@@ -214,3 +214,136 @@ TEST(StartOnTool, ParticlesOnTheFaceAreWarnedAbout)
   }
 }
 
+/* ----------------------------------------------------------------------
+   6. fix heat/fmfs without an initial temperature (no keyword temp of fix sph/jc-thermal): the
+   particles start at their material's Tref (pair_coeff, default 300), and a one-line message
+   says so with the temperature of each type; none when temp is given, none without heat/fmfs
+------------------------------------------------------------------------- */
+
+TEST(HeatDefaultTemperature, MessageNamesTheTemperature)
+{
+  auto temps = [](Lammps &l, double &tmin, double &tmax) {
+    auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix("sph")]);
+    tmin = 1e300;
+    tmax = -1e300;
+    for (int i = 0; i < l.lmp->atom->nlocal; i++) {
+      tmin = std::min(tmin, fix->state[i][F::TEMP]);
+      tmax = std::max(tmax, fix->state[i][F::TEMP]);
+    }
+  };
+  double tmin, tmax;
+  {
+    Lammps l(MPI_COMM_WORLD, with_log("tref.log"));
+    block(l, 4, 3, 1.0e-3, "k 10 cp 500");
+    l.cmds({"fix heat all heat/fmfs", "run 0"});
+    expect_variant(l, "heat");
+    expect_variant(l, "sph");
+    EXPECT_NE(log_of(l, "tref.log")
+                  .find("Fix heat/fmfs: no initial temperature given for 12 particle(s) (fix sph/jc-thermal keyword "
+                        "temp): they start at their material's Tref (pair_coeff, default 300), type 1: 300"),
+              std::string::npos)
+        << log_of(l, "tref.log");
+    temps(l, tmin, tmax);
+    EXPECT_EQ(tmin, 300.0);
+    EXPECT_EQ(tmax, 300.0);
+    // once: particles that have a temperature are not counted again
+    l.cmd("run 0");
+    const std::string log = log_of(l, "tref.log");
+    EXPECT_EQ(log.find("no initial temperature", log.find("no initial temperature") + 10), std::string::npos);
+  }
+  {
+    Lammps l(MPI_COMM_WORLD, with_log("tref.log"));
+    block(l, 4, 3, 1.0e-3, "k 10 cp 500 Tref 293 Tmelt 1800");
+    l.cmds({"fix heat all heat/fmfs", "run 0"});
+    EXPECT_NE(log_of(l, "tref.log").find("no initial temperature given for 12 particle(s)"), std::string::npos);
+    EXPECT_NE(log_of(l, "tref.log").find("type 1: 293"), std::string::npos);
+    temps(l, tmin, tmax);
+    EXPECT_EQ(tmin, 293.0);
+    EXPECT_EQ(tmax, 293.0);
+  }
+  {
+    Lammps l(MPI_COMM_WORLD, with_log("tref.log"));
+    block(l, 4, 3, 1.0e-3, "k 10 cp 500", "temp 500");
+    l.cmds({"fix heat all heat/fmfs", "run 0"});
+    EXPECT_EQ(log_of(l, "tref.log").find("no initial temperature"), std::string::npos);
+    temps(l, tmin, tmax);
+    EXPECT_EQ(tmin, 500.0);
+  }
+  {
+    Lammps l(MPI_COMM_WORLD, with_log("tref.log"));
+    block(l, 4, 3, 1.0e-3, "k 10 cp 500");
+    l.cmd("run 0");
+    EXPECT_EQ(log_of(l, "tref.log").find("no initial temperature"), std::string::npos);
+  }
+  {
+    // a temp variable that is not a number is refused (it was taken as the temperature)
+    Lammps l;
+    block(l, 4, 3, 1.0e-3, "k 10 cp 500", "temp v_T0");
+    l.cmds({std::string("variable T0 atom ") + NAN_EXPR, "fix heat all heat/fmfs"});
+    EXPECT_TRUE(l.error_contains("run 0", "Fix sph/jc-thermal: temp variable T0 is not a finite number for atom"));
+  }
+}
+
+/* ----------------------------------------------------------------------
+   7. messages: dump_sph with an unknown field names dump_sph, the field and the valid names
+   (it reported "Invalid attribute densty in dump custom command"); a temperature or a velocity
+   that is not a number is reported as such (it was "above tmax" / "faster than vmax"), also
+   where the limit is switched off or the material has no Tmelt (it was not caught at all)
+------------------------------------------------------------------------- */
+
+TEST(Messages, DumpSphUnknownField)
+{
+  Lammps l;
+  block(l, 3, 2, 1.0e-3);
+  EXPECT_TRUE(l.error_contains("dump_sph d all 10 dump.x id densty",
+                               "dump_sph: unknown field densty; sphcut fields: density pressure sxx"));
+  EXPECT_TRUE(l.error_contains("dump_sph d all 10 dump.x id densty", "temperature_rate lambda surface"));
+  EXPECT_TRUE(l.error_contains("dump_sph d all 10 dump.x id densty",
+                               "dump custom fields: id mol proc procp1 type element typelabel mass x y z"));
+  EXPECT_TRUE(l.error_contains("dump_sph d all 10 dump.x id densty", "c_ID, c_ID[N], f_ID, f_ID[N], v_name"));
+  // dump custom fields and sphcut fields still pass
+  l.cmds({"variable e atom 2*x", "dump_sph d all 10 dump.x id type x vx v_e f_sph[1] density", "undump d"});
+}
+
+namespace {
+
+// the state of the particle with tag `tag` (host copy, current between runs also under /kk)
+double *state_of(Lammps &l, int tag)
+{
+  auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix("sph")]);
+  return fix->state[l.lmp->atom->map(tag)];
+}
+
+}    // namespace
+
+TEST(Messages, TemperatureNotANumber)
+{
+  for (const std::string args : {"", "tmax none"}) {
+    for (const std::string mat : {"Tref 300 Tmelt 1800", ""}) {
+      SCOPED_TRACE("'" + args + "' '" + mat + "'");
+      Lammps l;
+      block(l, 4, 3, 1.0e-3, mat, "cfl 0.3 " + args);
+      l.cmd("run 0");
+      state_of(l, 7)[F::TEMP] = NAN;
+      EXPECT_TRUE(l.error_contains("run 5", "Fix sph/jc-thermal: particle 7 at ("));
+    }
+  }
+  Lammps l;
+  block(l, 4, 3, 1.0e-3, "Tref 300 Tmelt 1800", "cfl 0.3");
+  l.cmd("run 0");
+  state_of(l, 7)[F::TEMP] = NAN;
+  EXPECT_TRUE(l.error_contains("run 5", "has a temperature that is not a number (NaN), at step 0: the temperature "
+                                        "solution has become unstable"));
+}
+
+TEST(Messages, VelocityNotANumber)
+{
+  for (const std::string args : {"", "vmax none"}) {
+    SCOPED_TRACE(args);
+    Lammps l;
+    block(l, 4, 3, 1.0e-3, "", "cfl 0.3 " + args);
+    l.cmds({"run 0", std::string("variable bad atom ") + NAN_EXPR, "group one id 6", "set group one vx v_bad"});
+    EXPECT_TRUE(l.error_contains("run 5", "Fix sph/jc-thermal: particle 6 at (0.001, 0.002, 0) has a velocity that "
+                                          "is not a number (NaN), at step 0"));
+  }
+}
