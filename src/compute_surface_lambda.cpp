@@ -23,6 +23,7 @@
 #include "pair_sph_jc_thermal.h"
 #include "update.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_thermal.h"
@@ -52,8 +53,7 @@ ComputeSurfaceLambda::ComputeSurfaceLambda(LAMMPS *lmp, int narg, char **arg) :
       else if (val == "no") tool_hides = 0;
       else error->all(FLERR, "Compute surface/lambda: tool must be yes or no, got {}", val);
     } else if (kw == "every") {
-      every = utils::inumeric(FLERR, val.c_str(), false, lmp);
-      if (every < 1) error->all(FLERR, "Compute surface/lambda: every must be >= 1, got {}", every);
+      every = sphcut::parse_int(lmp, "Compute surface/lambda", kw, val.c_str());
     } else {
       error->all(FLERR, "Compute surface/lambda: unknown keyword {}", kw);
     }

@@ -27,6 +27,9 @@
 #include "output.h"
 #include "utils.h"
 
+#include "sphcut_checks.h"
+
+#include <cstring>
 #include <map>
 
 using namespace LAMMPS_NS;
@@ -57,6 +60,23 @@ const std::vector<DumpSPH::Field> &DumpSPH::fields()
 
 namespace {
 
+// the per-atom attributes of dump custom (29Sep2021; typelabel from 2023), and the prefixes of
+// its computes, fixes, variables and custom properties (c_ID, f_ID[2], v_name, d_name, i2_name[1])
+const char *const CUSTOM_ATTRIBUTES[] = {
+    "id", "mol", "proc", "procp1", "type", "element", "typelabel", "mass", "x", "y", "z", "xs", "ys", "zs", "xu",
+    "yu", "zu", "xsu", "ysu", "zsu", "ix", "iy", "iz", "vx", "vy", "vz", "fx", "fy", "fz", "q", "mux", "muy", "muz",
+    "mu", "radius", "diameter", "omegax", "omegay", "omegaz", "angmomx", "angmomy", "angmomz", "tqx", "tqy", "tqz"};
+const char *const CUSTOM_PREFIXES[] = {"c_", "f_", "v_", "d_", "i_", "d2_", "i2_"};
+
+bool custom_field(const std::string &name)
+{
+  for (const char *a : CUSTOM_ATTRIBUTES)
+    if (name == a) return true;
+  for (const char *p : CUSTOM_PREFIXES)
+    if (name.size() > strlen(p) && name.compare(0, strlen(p), p) == 0) return true;
+  return false;
+}
+
 // 29Sep2021 has no dump_modify colname: set the header text of the columns directly
 // (pointer to a protected member through a derived class: standard C++)
 struct ColumnsAccess : public DumpCustom {
@@ -68,6 +88,7 @@ struct ColumnsAccess : public DumpCustom {
 void DumpSPH::command(int narg, char **arg)
 {
   if (narg < 5) error->all(FLERR, "Illegal dump_sph command: dump_sph ID group-ID N file field ...");
+  sphcut::parse_int(lmp, "dump_sph", "N (the output interval)", arg[2]);    // dump custom would wrap it
 
   // the first style providing each source, found by name
   const char *srcstyle[3] = {"sph/jc-thermal", "surface/lambda", "contact/tri-penalty"};
@@ -92,7 +113,16 @@ void DumpSPH::command(int narg, char **arg)
     for (const Field &f : fields())
       if (name == f.name) fd = &f;
     if (!fd) {
-      words.push_back(name);    // any dump custom field: id, type, x, vx, c_ID, f_ID[2], v_name, ...
+      // any dump custom field: id, type, x, vx, c_ID, f_ID[2], v_name, ... (dump custom checks
+      // that they exist); anything else would be reported by dump custom under its own name
+      if (!custom_field(name)) {
+        std::string sph, custom;
+        for (const Field &f : fields()) sph += std::string(sph.empty() ? "" : " ") + f.name;
+        for (const char *a : CUSTOM_ATTRIBUTES) custom += std::string(custom.empty() ? "" : " ") + a;
+        error->all(FLERR, "dump_sph: unknown field {}; sphcut fields: {}; dump custom fields: {}, c_ID, c_ID[N], "
+                   "f_ID, f_ID[N], v_name, d_name, i_name", name, sph, custom);
+      }
+      words.push_back(name);
       continue;
     }
     if (!srcn[fd->source])

@@ -31,6 +31,7 @@
 #include "pair_sph_jc_thermal.h"
 #include "update.h"
 
+#include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_thermal.h"
@@ -75,8 +76,7 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
       iarg += 2;
     } else if (kw == "every") {
       need(1);
-      every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (every < 1) error->all(FLERR, "Fix heat/fmfs: every must be >= 1, got {}", every);
+      every = sphcut::parse_int(lmp, "Fix heat/fmfs", kw, arg[iarg + 1]);
       iarg += 2;
     } else if (kw == "conservative") {
       need(1);

@@ -108,8 +108,7 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       else if (strcmp(val, "no") == 0) fence = 0;
       else error->all(FLERR, "Fix sph/jc-thermal: fence must be yes or no, got {}", val);
     } else if (kw == "peratom_every") {
-      peratom_every = utils::inumeric(FLERR, val, false, lmp);
-      if (peratom_every < 1) error->all(FLERR, "Fix sph/jc-thermal: peratom_every must be >= 1, got {}", peratom_every);
+      peratom_every = sphcut::parse_int(lmp, "Fix sph/jc-thermal", kw, val);
     } else {
       error->all(FLERR, "Fix sph/jc-thermal: unknown keyword {}", kw);
     }
@@ -266,15 +265,22 @@ void FixSPHJCThermal::setup_state()
     for (int i = 0; i < nlocal; i++) {
       if (!(mask[i] & groupbit) || state[i][TEMP] >= 0.0) continue;
       if (t0[i] < 0.0) error->one(FLERR, "Fix sph/jc-thermal: temp variable {} is negative: {}", temp_var, t0[i]);
+      if (!std::isfinite(t0[i]))
+        error->one(FLERR, "Fix sph/jc-thermal: temp variable {} is not a finite number for atom {}: {}", temp_var,
+                   atom->tag[i], t0[i]);
       state[i][TEMP] = t0[i];
     }
   }
+  std::vector<bigint> ntref(atom->ntypes + 1, 0);    // particles given their material's Tref, by type
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     double *s = state[i];
     const Material &mt = mat[type[i]];
     if (s[RHO] <= 0.0) s[RHO] = mt.rho0;
-    if (s[TEMP] < 0.0) s[TEMP] = mt.Tref;
+    if (s[TEMP] < 0.0) {
+      s[TEMP] = mt.Tref;
+      ntref[type[i]]++;
+    }
     s[ROLE] = role_of(mask[i]);
     s[PRESS] = sphcut::eos_pressure(mt, s[RHO], s[TEMP]);
     s[VM] = sphcut::von_mises(&s[SXX]);
@@ -290,6 +296,30 @@ void FixSPHJCThermal::setup_state()
     }
   }
   force_state_valid = 1;
+  report_default_temperature(ntref);
+}
+
+// particles whose temperature was never set (no keyword temp) start at their material's Tref:
+// with fix heat/fmfs, whose conduction starts from these temperatures, a one-line message says
+// so, with the temperature of each type (not silently: issue 23)
+void FixSPHJCThermal::report_default_temperature(const std::vector<bigint> &ntref)
+{
+  bool heat = false;
+  for (int i = 0; i < modify->nfix; i++)
+    if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) heat = true;
+  if (!heat) return;
+  std::vector<bigint> all(ntref.size(), 0);
+  MPI_Allreduce(ntref.data(), all.data(), (int) ntref.size(), MPI_LMP_BIGINT, MPI_SUM, world);
+  bigint n = 0;
+  std::string types;
+  for (size_t t = 1; t < all.size(); t++) {
+    if (!all[t]) continue;
+    n += all[t];
+    types += fmt::format("{}type {}: {:.6g}", types.empty() ? "" : ", ", t, pair->materials()[t].Tref);
+  }
+  if (n && comm->me == 0)
+    utils::logmesg(lmp, "Fix heat/fmfs: no initial temperature given for {} particle(s) (fix sph/jc-thermal keyword "
+                   "temp): they start at their material's Tref (pair_coeff, default 300), {}\n", n, types);
 }
 
 /* ----------------------------------------------------------------------
@@ -427,7 +457,7 @@ void FixSPHJCThermal::report_runaway()
       [&](int i, double *vals) {
         const double vv = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
         const double lim = sphcut::runaway_speed(mat[atom->type[i]], vmax);
-        if (!(lim > 0.0) || vv <= lim) return -1.0;
+        if (vv == vv && (!(lim > 0.0) || vv <= lim)) return -1.0;
         vals[0] = vv;
         vals[1] = lim;
         return vv == vv ? vv / lim : 1.0e300;    // a speed that is not a number first
@@ -437,6 +467,11 @@ void FixSPHJCThermal::report_runaway()
     report_temperature();
     report_density();
   }
+  if (std::isnan(info[4]))
+    error->all(FLERR,
+               "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has a velocity that is not a number "
+               "(NaN), at step {}: the solution has become unstable (see the fix's doc page, keyword vmax)",
+               (bigint) info[0], info[1], info[2], info[3], update->ntimestep);
   error->all(FLERR,
              "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) moves at {:.4g}, faster than vmax {:.4g} "
              "(default: its material's sound speed), at step {}: the solution has become unstable "
@@ -453,13 +488,18 @@ void FixSPHJCThermal::report_temperature()
   const double worst = worst_particle(
       [&](int i, double *vals) {
         const double T = state[i][TEMP], lim = sphcut::runaway_temperature(mat[atom->type[i]], tmax);
-        if (!(lim > 0.0) || T <= lim) return -1.0;
+        if (T == T && (!(lim > 0.0) || T <= lim)) return -1.0;
         vals[0] = T;
         vals[1] = lim;
         return T == T ? T / lim : 1.0e300;    // a temperature that is not a number first
       },
       -1.0, info, true);
   if (worst < 0.0) return;
+  if (std::isnan(info[4]))
+    error->all(FLERR,
+               "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has a temperature that is not a number "
+               "(NaN), at step {}: the temperature solution has become unstable (see the fix's doc page, keyword "
+               "tmax)", (bigint) info[0], info[1], info[2], info[3], update->ntimestep);
   error->all(FLERR,
              "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has temperature {:.4g}, above tmax {:.4g} "
              "(default: twice its material's Tmelt), at step {}: the temperature solution has become unstable "
@@ -482,6 +522,11 @@ void FixSPHJCThermal::report_density()
         return rho == rho ? -rho / rho0 : 1.0e300;    // -(rho / rho0): the largest is the least dense
       },
       -1.0e300, info);
+  if (std::isnan(info[4]))
+    error->all(FLERR,
+               "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has a density that is not a number "
+               "(NaN; rho0 {:.4g}) at step {}: the solution has become unstable",
+               (bigint) info[0], info[1], info[2], info[3], info[5], update->ntimestep);
   if (!(info[4] > 0.0))
     error->all(FLERR,
                "Fix sph/jc-thermal: particle {} at ({:.6g}, {:.6g}, {:.6g}) has density {:.4g} (rho0 {:.4g}) at "

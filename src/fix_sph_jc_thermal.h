@@ -89,6 +89,7 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::A
   int grow_callback = 1;      // the state migrates through Atom's grow callback (/kk on one rank: no)
   void initialize_atom(int);
   void setup_state();         // host part of setup_pre_force: complete the state of new atoms
+  void report_default_temperature(const std::vector<bigint> &ntref);    // particles at Tref (heat/fmfs)
   virtual double stable_dt(); // this step's stable dt (global min)
   virtual void check_close_pairs();    // warn about particles (nearly) on top of each other
   double vmax;                // runaway speed: < 0 the sound speed c_l (default), 0 none, > 0 this

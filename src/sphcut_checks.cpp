@@ -11,11 +11,28 @@
 #include "neigh_list.h"
 #include "pair_sph_jc_thermal.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 
 using namespace LAMMPS_NS;
 
 namespace sphcut {
+
+int parse_int(LAMMPS *lmp, const std::string &who, const std::string &keyword, const char *text, int lo, int hi)
+{
+  const std::string word = text ? text : "";
+  // a sign and digits only: strtoll alone would take leading blanks, "0x10" and "12abc" (as 12)
+  const size_t digits = word.find_first_not_of("+-") == 1 ? 1 : 0;
+  if (word.empty() || digits >= word.size() || word.find_first_not_of("0123456789", digits) != std::string::npos)
+    lmp->error->all(FLERR, "{}: {} must be an integer, got {}", who, keyword, word);
+  errno = 0;
+  const long long v = std::strtoll(word.c_str(), nullptr, 10);
+  const bool overflow = errno == ERANGE;    // beyond long long: v is LLONG_MIN or LLONG_MAX
+  if (v < lo) lmp->error->all(FLERR, "{}: {} must be >= {}, got {}", who, keyword, lo, word);
+  if (overflow || v > hi) lmp->error->all(FLERR, "{}: {} must be <= {}, got {} (out of range)", who, keyword, hi, word);
+  return (int) v;
+}
 
 void check_masses(LAMMPS *lmp, const char *who)
 {

@@ -1,8 +1,9 @@
 /* -*- c++ -*- ----------------------------------------------------------
-   sphcut - setup-time checks of the input that would otherwise fail
-   silently (host only): particle masses, and particles that start
-   (nearly) on top of each other.  Called by the SPH styles at the setup
-   of a run; errors and warnings name the cause.
+   sphcut - checks of the input that would otherwise fail silently (host
+   only): integer keyword values (no wrap-around), particle masses, and
+   particles that start (nearly) on top of each other.  Called by the
+   styles when they parse their arguments or at the setup of a run;
+   errors and warnings name the cause.
 ------------------------------------------------------------------------- */
 
 #ifndef SPHCUT_CHECKS_H
@@ -10,12 +11,23 @@
 
 #include "lmptype.h"
 
+#include <climits>
+#include <string>
+
 namespace LAMMPS_NS {
 class LAMMPS;
 class PairSPHJCThermal;
 }    // namespace LAMMPS_NS
 
 namespace sphcut {
+
+// the value of an integer keyword, `text` the word as given: every sphcut style parses its
+// integer keywords here.  The whole word must be a decimal integer (an optional sign, digits)
+// within [lo, hi]; LAMMPS 29Sep2021's utils::inumeric converts with atoi, so `every 10000000000`
+// wrapped to 1410065408.  error->all "<who>: <keyword> must be an integer, got <text>",
+// "... must be >= <lo>, got <text>" or "... must be <= <hi>, got <text> (out of range)".
+int parse_int(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &keyword, const char *text,
+              int lo = 1, int hi = INT_MAX);
 
 // every particle has a mass > 0: per-type masses set (mass command) when there is no
 // per-atom mass, else every per-atom mass (rmass) > 0 and finite.  error->all naming

@@ -136,9 +136,9 @@ SPHCUT_INLINE double runaway_temperature(const Material &mt, double tmax)
 /* stable time step of one particle (adaptive dt, keyword cfl), mechanics:
      dt = cfl h / (c_l + |v|)        (not for tool particles)
    the conduction and contact limits come from fix heat/fmfs and fix contact/tri-penalty.
-   A particle faster than runaway_speed (or with a velocity that is not a number), or hotter than
-   runaway_temperature (or with a temperature that is not a number; tool particles too), gives
-   -1, which no step can be: the step's minimum carries the checks for free, and the fix stops
+   A particle faster than runaway_speed, or hotter than runaway_temperature (tool particles too),
+   or with a velocity or temperature that is not a number (NaN; also where the limit is switched
+   off with none, or the material has no Tmelt), gives -1, which no step can be: the step's minimum carries the checks for free, and the fix stops
    the run naming the particle (FixSPHJCThermal::report_runaway) instead of letting it fly off
    and fail later somewhere else ("Domain too large for neighbor bins"), or heat up without
    bound unnoticed. */
@@ -146,11 +146,11 @@ SPHCUT_INLINE double particle_dt(const Material &mt, int role, double h, const d
                                  double vmax, double tmax)
 {
   const double tlim = runaway_temperature(mt, tmax);
-  if (tlim > 0.0 && !(T <= tlim)) return -1.0;
+  if (T != T || (tlim > 0.0 && !(T <= tlim))) return -1.0;
   if (role == SL::TOOL) return 1.0e300;
   const double vv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   const double lim = runaway_speed(mt, vmax);
-  if (lim > 0.0 && !(vv <= lim)) return -1.0;
+  if (vv != vv || (lim > 0.0 && !(vv <= lim))) return -1.0;
   return cfl * h / (mt.cl + vv);
 }
 
