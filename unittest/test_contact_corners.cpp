@@ -436,44 +436,72 @@ TEST(SharpCorners, ContactForceOnAGridAsTheReference)
 }
 
 /* ----------------------------------------------------------------------
-   the 2D section of an STL solid at a sharp edge: the 30-degree wedge cut by z = 0 (the
-   section's segments meet at the apex, their vertex pseudo-normal is found)
+   the 2D section of an STL solid at a sharp edge: the 30-degree wedge cut by z = 0, as given
+   and tilted (17 degrees about (0.3, 1, 0.2): the crossing points are rounded, and the segments
+   of neighbouring facets must still meet for their vertex pseudo-normal to be found).  The
+   reference: the section computed here (distance) and the winding number of the 3D mesh (side).
 ------------------------------------------------------------------------- */
 
 TEST(SharpCorners, SectionOfAnStlWedgeIn2D)
 {
   const double E = 1.0e6, RC = 2.0 * H;
-  const std::vector<double> w3 = wedge(30.0, 6e-3, 5e-3);
-  sphcut::write_stl_ascii("wedge2d.stl", w3);
-  // the reference outline: the wedge's triangle, counter-clockwise
-  const double s = 6e-3 * tan(15.0 * PI / 180.0);
-  const std::vector<double> outline = {0, 0, 0, -s, -6e-3, 0, -s, -6e-3, 0, s, -6e-3, 0, s, -6e-3, 0, 0, 0, 0};
-  const std::vector<Vec> pts = grid({0.0, 0.0, 0.0}, 17, 0.4 * H, 2);
-  Lammps l;
-  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
-          "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3", "create_box 1 box"});
-  for (const Vec &p : pts) l.cmd("create_atoms 1 single " + num(p[0]) + " " + num(p[1]) + " 0 units box");
-  l.cmds({"mass 1 " + num(RHO * DP * DP), "pair_style sph/jc-thermal",
-          "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal", "timestep 1e-7",
-          "fix tool all contact/tri-penalty stl wedge2d.stl sfac 0.25 dfac 0 mu 0", "run 0"});
-  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("tool")];
-  int nchecked = 0, nwrong = 0;
-  double worst = 0.0;
-  for (size_t a = 0; a < pts.size(); a++) {
-    const Ref r = reference(outline, 2, pts[a]);
-    if (r.dist > 1.9 * H || r.dist < 1e-6 * H) continue;
-    const double *fc = f->array_atom[l.lmp->atom->map((int) a + 1)];
-    nchecked++;
-    const double d = RC - fc[3] / E;
-    if (fc[3] == 0.0 || (d < 0.0) != r.inside()) nwrong++;
-    worst = std::max(worst, fabs(d - r.d()));
+  for (double tilt : {0.0, 17.0}) {
+    std::vector<double> w3 = wedge(30.0, 6e-3, 5e-3);
+    sphcut::StlTransform tf;
+    const double axis[3] = {0.3, 1.0, 0.2};
+    tf.set_axis_angle(axis, tilt);
+    for (size_t k = 0; k < w3.size(); k += 3) {
+      double y[3];
+      tf.apply(&w3[k], y);
+      for (int c = 0; c < 3; c++) w3[k + c] = y[c];
+    }
+    sphcut::write_stl_ascii("wedge2d.stl", w3);
+    std::vector<double> section;    // unoriented segments where the facets cross z = 0
+    for (size_t f = 0; f < w3.size(); f += 9) {
+      int np = 0;
+      for (int e = 0; e < 3; e++) {
+        const Vec a = vert(w3, f / 3 + e), b = vert(w3, f / 3 + (e + 1) % 3);
+        if ((a[2] < 0.0) == (b[2] < 0.0)) continue;
+        const double t = a[2] / (a[2] - b[2]);
+        section.insert(section.end(), {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), 0.0});
+        np++;
+      }
+      if (np == 1) section.resize(section.size() - 3);
+    }
+    const std::vector<Vec> pts = grid({0.0, 0.0, 0.0}, 17, 0.4 * H, 2);
+    Lammps l;
+    l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+            "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3", "create_box 1 box"});
+    for (const Vec &p : pts) l.cmd("create_atoms 1 single " + num(p[0]) + " " + num(p[1]) + " 0 units box");
+    l.cmds({"mass 1 " + num(RHO * DP * DP), "pair_style sph/jc-thermal",
+            "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal",
+            "timestep 1e-7", "fix tool all contact/tri-penalty stl wedge2d.stl sfac 0.25 dfac 0 mu 0", "run 0"});
+    LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("tool")];
+    int nchecked = 0, nwrong = 0;
+    double worst = 0.0, worstn = 0.0;
+    for (size_t a = 0; a < pts.size(); a++) {
+      Ref r = reference(section, 2, pts[a]);
+      r.wind = reference(w3, 3, pts[a]).wind;
+      if (r.dist > 1.9 * H || r.dist < 1e-6 * H) continue;
+      const double *fc = f->array_atom[l.lmp->atom->map((int) a + 1)];
+      const double fl = sqrt(fc[0] * fc[0] + fc[1] * fc[1]);
+      nchecked++;
+      const double d = RC - fc[3] / E;
+      if (!(fl > 0.0) || (d < 0.0) != r.inside()) {
+        nwrong++;
+        continue;
+      }
+      worst = std::max(worst, fabs(d - r.d()));
+      worstn = std::max(worstn, norm(sub({fc[0] / fl, fc[1] / fl, 0.0}, ref_normal(r, pts[a], 2))));
+    }
+    std::printf("[ corners  ] fix, 2D section of the STL wedge, tilt %2g deg: %d particles within 2h, %d on the wrong "
+                "side, max |d - d_ref| %.2e h, max |n - n_ref| %.2e\n",
+                tilt, nchecked, nwrong, worst / H, worstn);
+    EXPECT_GT(nchecked, 50);
+    EXPECT_EQ(nwrong, 0);
+    EXPECT_LT(worst, 5e-14 * H);    // measured 3.0e-15 h
+    EXPECT_LT(worstn, 3e-12);
   }
-  std::printf("[ corners  ] fix, 2D section of the STL wedge: %d particles within 2h, %d on the wrong side, "
-              "max |d - d_ref| %.2e h\n",
-              nchecked, nwrong, worst / H);
-  EXPECT_GT(nchecked, 50);
-  EXPECT_EQ(nwrong, 0);
-  EXPECT_LT(worst, 5e-14 * H);    // measured 3.0e-15 h
 }
 
 /* ----------------------------------------------------------------------
