@@ -398,13 +398,12 @@ void FixContactTriPenalty::init()
   // the bins: elements within the largest query radius, in the tool frame
   const double hmax = contact_radius_max();
   sphcut::tri_bin_build(elem, nvert, 2.0 * hmax, bins);
-  // an element far below the search radius is a point to the search: the distances of a
-  // particle to the tool's elements tie, and the side is lost (e.g. scale 1e-30, issue 23)
-  double esize;
-  const long etiny = sphcut::smallest_element(elem, nvert, esize);
-  if (etiny >= 0 && !(esize > 1.0e-6 * 2.0 * hmax))
-    error->all(FLERR, "Fix contact/tri-penalty: tool element {} is degenerate at scale {}: {} across, below 1e-6 "
-               "of the contact search radius 2h = {}", etiny, stl_scale, esize, 2.0 * hmax);
+  // a tool far below the search radius is a point to the search: the distances of a particle
+  // to its elements tie, and the side is lost (e.g. scale 1e-30, issue 23)
+  const double extent = sphcut::bounding_diagonal(elem);
+  if (!(extent > 1.0e-6 * 2.0 * hmax))
+    error->all(FLERR, "Fix contact/tri-penalty: the tool is degenerate at scale {}: it spans {}, below 1e-6 of the "
+               "contact search radius 2h = {}", stl_scale, extent, 2.0 * hmax);
   if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
   update_tool_velocity();
   // the spring's time step limit before the first force evaluation (fix sph/jc-thermal sets

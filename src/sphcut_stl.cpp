@@ -422,13 +422,7 @@ void require_closed_mesh(const std::string &file, const std::vector<double> &tri
   if (c.closed()) {
     // closed and consistent, but the facets may all be turned inward (a negative volume): the
     // particles outside would be taken as inside (issue 23)
-    double lo[3], hi[3];
-    for (int k = 0; k < 3; k++) lo[k] = hi[k] = tri.empty() ? 0.0 : tri[k];
-    for (size_t i = 0; i < tri.size(); i++) {
-      lo[i % 3] = std::min(lo[i % 3], tri[i]);
-      hi[i % 3] = std::max(hi[i % 3], tri[i]);
-    }
-    const double diag = sqrt(sq(hi[0] - lo[0]) + sq(hi[1] - lo[1]) + sq(hi[2] - lo[2]));
+    const double diag = bounding_diagonal(tri);
     const double vol = mesh_volume(tri);
     if (vol < -1.0e-12 * diag * diag * diag)
       fail(file, "the closed mesh encloses a negative volume (" + fmtg(vol) +
@@ -681,26 +675,17 @@ std::vector<double> stl_section_z0(const std::string &file, const std::vector<do
   return seg;
 }
 
-long smallest_element(const std::vector<double> &elem, int nvert, double &size)
+double bounding_diagonal(const std::vector<double> &pts)
 {
-  check_elem(elem, nvert, "smallest_element");
-  const size_t stride = 3 * nvert, ne = elem.size() / stride;
-  long best = -1;
-  size = 0.0;
-  for (size_t e = 0; e < ne; e++) {
-    const double *v = elem.data() + stride * e;
-    double l2 = 0.0;
-    for (int m = 0; m < nvert; m++) {
-      double d[3];
-      sub3(v + 3 * ((m + 1) % nvert), v + 3 * m, d);
-      l2 = std::max(l2, dot3(d, d));
+  if (pts.size() < 3) return 0.0;
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; k++) lo[k] = hi[k] = pts[k];
+  for (size_t i = 0; i + 3 <= pts.size(); i += 3)
+    for (int k = 0; k < 3; k++) {
+      lo[k] = std::min(lo[k], pts[i + k]);
+      hi[k] = std::max(hi[k], pts[i + k]);
     }
-    if (best < 0 || sqrt(l2) < size) {
-      best = (long) e;
-      size = sqrt(l2);
-    }
-  }
-  return best;
+  return sqrt(sq(hi[0] - lo[0]) + sq(hi[1] - lo[1]) + sq(hi[2] - lo[2]));
 }
 
 std::vector<double> pseudo_normals(const std::vector<double> &elem, int nvert)

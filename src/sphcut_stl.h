@@ -97,8 +97,8 @@ void require_closed_mesh(const std::string &file, const std::vector<double> &tri
 // Throws ("STL file '...': no facet crosses the plane z = 0 ...") when the section is empty.
 std::vector<double> stl_section_z0(const std::string &file, const std::vector<double> &tri);
 
-// the element with the smallest longest edge (its index, -1 when there is none) and that length
-long smallest_element(const std::vector<double> &elem, int nvert, double &size);
+// the diagonal of the bounding box of a vertex array (3 doubles per vertex: elements of any kind)
+double bounding_diagonal(const std::vector<double> &pts);
 
 // ASCII STL, coordinates with 17 significant digits (exact round trip)
 void write_stl_ascii(const std::string &file, const std::vector<double> &tri,
