@@ -529,8 +529,8 @@ struct TriBinView {
   int n[3];                // bins per direction (n[2] = 1 for segments)
   const int *start;        // n[0] n[1] n[2] + 1 offsets into index
   const int *index;        // element ids, bin by bin (bin = (iz n[1] + iy) n[0] + ix)
-  const double *pnorm;     // per element its feature pseudo-normals (tri_bin_pnorm_stride
-                           // doubles, see feature_pseudo_normal), or nullptr: face normals
+  const double *pnorm = nullptr;    // per element its feature pseudo-normals (tri_bin_pnorm_stride
+                                    // doubles, see feature_pseudo_normal), or nullptr: face normals
 };
 
 // doubles of pseudo-normals per element: a triangle 3 edges + 3 vertices, a segment 2 vertices
