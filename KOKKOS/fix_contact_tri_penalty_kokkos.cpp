@@ -352,11 +352,13 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::upload(
   d_sphere = sphcut::to_device<double, DeviceType>(bins.sphere.data(), (int) bins.sphere.size(), "contact:sphere");
   d_start = sphcut::to_device<int, DeviceType>(bins.start.data(), (int) bins.start.size(), "contact:start");
   d_index = sphcut::to_device<int, DeviceType>(bins.index.data(), (int) bins.index.size(), "contact:index");
+  d_pnorm = sphcut::to_device<double, DeviceType>(bins.pnorm.data(), (int) bins.pnorm.size(), "contact:pnorm");
   d_view = bins.view();
   d_view.elem = d_elem.data();
   d_view.sphere = d_sphere.data();
   d_view.start = d_start.data();
   d_view.index = d_index.data();
+  d_view.pnorm = bins.pnorm.empty() ? nullptr : d_pnorm.data();
   const int n = atom->ntypes + 1;
   d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "contact:mat");
   std::vector<double> h(n, 0.0), dp(n, 0.0), hij((size_t) n * n, 0.0);

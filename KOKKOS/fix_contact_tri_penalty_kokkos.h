@@ -57,7 +57,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
  public:    // (CUDA: a function that launches a device lambda must be public)
   typedef typename DeviceType::memory_space mem;
   FixSPHJCThermalKokkosBase *fixkk;
-  Kokkos::View<double *, mem> d_elem, d_sphere;
+  Kokkos::View<double *, mem> d_elem, d_sphere, d_pnorm;    // d_pnorm: feature pseudo-normals
   Kokkos::View<int *, mem> d_start, d_index;
   sphcut::TriBinView d_view;                      // points at the device copies
   Kokkos::View<sphcut::Material *, mem> d_mat;

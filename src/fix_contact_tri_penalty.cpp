@@ -275,34 +275,9 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       if (geom == "stl") {
         std::vector<double> tri = sphcut::read_stl(gargs[0], tf);
         sphcut::require_closed_mesh(gargs[0], tri);    // a tool is a solid: no open sheets
-        if (nvert == 3) elem = tri;
-        else {
-          // 2D: the section of the solid with the plane z = 0, as segments (outward normal kept)
-          for (size_t t = 0; t + 9 <= tri.size(); t += 9) {
-            const double *v = &tri[t];
-            double pts[2][3];
-            int np = 0;
-            for (int e = 0; e < 3 && np < 2; e++) {
-              const double *a = v + 3 * e, *b = v + 3 * ((e + 1) % 3);
-              if ((a[2] < 0.0) != (b[2] < 0.0)) {
-                const double s = a[2] / (a[2] - b[2]);
-                for (int k = 0; k < 3; k++) pts[np][k] = a[k] + s * (b[k] - a[k]);
-                pts[np][2] = 0.0;
-                np++;
-              }
-            }
-            if (np < 2) continue;
-            double nt[3];
-            sphcut::triangle_normal(v, v + 3, v + 6, nt);
-            // segment a->b has outward normal (dy, -dx): order the points accordingly
-            const double dxs = pts[1][0] - pts[0][0], dys = pts[1][1] - pts[0][1];
-            const int flip = dys * nt[0] - dxs * nt[1] < 0.0;
-            const double *p0 = flip ? pts[1] : pts[0], *p1 = flip ? pts[0] : pts[1];
-            for (int k = 0; k < 3; k++) elem.push_back(p0[k]);
-            for (int k = 0; k < 3; k++) elem.push_back(p1[k]);
-          }
-          if (elem.empty()) throw std::runtime_error("STL file '" + gargs[0] + "': no facet crosses the plane z = 0 (2D section is empty)");
-        }
+        stl_scale = tf.scale;
+        // 2D: the section of the solid with the plane z = 0, as segments (outward normal kept)
+        elem = nvert == 3 ? tri : sphcut::stl_section_z0(gargs[0], tri);
       } else {
         sphcut::InsertParams ip;
         for (size_t k = 0; k + 1 < gargs.size(); k += 2) {
@@ -427,6 +402,12 @@ void FixContactTriPenalty::init()
   // the bins: elements within the largest query radius, in the tool frame
   const double hmax = contact_radius_max();
   sphcut::tri_bin_build(elem, nvert, 2.0 * hmax, bins);
+  // a tool far below the search radius is a point to the search: the distances of a particle
+  // to its elements tie, and the side is lost (e.g. scale 1e-30, issue 23)
+  const double extent = sphcut::bounding_diagonal(elem);
+  if (!(extent > 1.0e-6 * 2.0 * hmax))
+    error->all(FLERR, "Fix contact/tri-penalty: the tool is degenerate at scale {}: it spans {}, below 1e-6 of the "
+               "contact search radius 2h = {}", stl_scale, extent, 2.0 * hmax);
   if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
   update_tool_velocity();
   // the spring's time step limit before the first force evaluation (fix sph/jc-thermal sets

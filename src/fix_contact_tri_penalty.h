@@ -62,6 +62,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   std::vector<double> elem;
   int nvert;                      // 3 triangles, 2 segments (2D)
   sphcut::TriBins bins;
+  double stl_scale = 1.0;         // the scale of an stl tool (named by the degenerate-element error)
   double disp[3], vtool[3];
   std::string vvar[3];            // equal-style variables of the tool velocity (empty: constant)
   double vconst[3];

@@ -20,7 +20,9 @@
      n = tri_bin_query(bins, xt, rcut, cand, ncand)
      if n > ncand: grow cand to n entries and query again (n is an upper bound)
      pick the candidate with the smallest |xt - q| (on a tie the FACE hit)
-     d = contact_normal(xt, a, b, c, q, region, two_sided, nrm)
+     d = tri_bin_contact_normal(bins, e, xt, q, region, two_sided, nrm)
+         (contact_normal with the feature's pseudo-normal: the side of an
+         edge or vertex hit is right at sharp features too)
      penalty_contact(in, out)         (in.n = nrm, in.d = d, in.q = q + disp)
 ------------------------------------------------------------------------- */
 
@@ -214,28 +216,36 @@ SPHCUT_INLINE double segment_normal(const double *a, const double *b, double *n)
 
 /* ----------------------------------------------------------------------
    contact normal n (unit, out of the tool) and signed distance d of p to
-   the closest point q found above, given the element's face normal nf.
+   the closest point q found above, given the element's face normal nf and
+   ps, the pseudo-normal of the feature that holds q (nullptr: nf).
      FACE hit: n = nf (eq. 7), d = nf.(p - q) (seed eq. 9 without |.|).
      EDGE / VERTEX hit: n = (p - q)/|p - q|, d = |p - q|, i.e. n points
        from the feature to the particle (rounded edge, corners).
    closed solid (two_sided = 0, default for tools read from STL): d < 0
      means the particle is behind the face, i.e. inside the tool; an
-     edge/vertex hit with (p - q).nf < 0 is inside too: d = -|p - q| and
-     n = (q - p)/|p - q|, so n still points out of the tool.  This is
-     right for the globally closest element (pick the smallest |p - q|,
-     a FACE hit on ties).
+     edge/vertex hit with (p - q).ps < 0 is inside too: d = -|p - q| and
+     n = (q - p)/|p - q|, so n still points out of the tool.  With ps the
+     angle-weighted pseudo-normal of the feature (Baerentzen and Aanaes
+     2005: an edge the sum of its two face normals, a vertex the sum of its
+     face normals weighted by the face angles there; tri_bin_build) this
+     sign is right at every edge and vertex of a closed mesh whatever its
+     angle, provided q is the globally closest point (pick the smallest
+     |p - q|, a FACE hit on ties).  The face normal of one element (ps =
+     nf) is right only where the feature's angles are not sharp: outside a
+     30-degree edge, for example, (p - q).nf < 0 for a particle outside.
    zero-thickness sheet (two_sided = 1, seed's plate elements, eq. 9 with
-     |.|): n is flipped to the particle's side and d = |p - q| >= 0.
+     |.|): n is flipped to the particle's side and d = |p - q| >= 0 (ps is
+     not used).
    p == q on an edge/vertex: n = nf (flipped for two_sided), d = 0.
 ------------------------------------------------------------------------- */
 
 SPHCUT_INLINE double contact_normal_from(const double *p, const double *q, const double *nf,
-                                         int region, int two_sided, double *n)
+                                         const double *ps, int region, int two_sided, double *n)
 {
   double pq[3];
   sub3(p, q, pq);
-  const double s = dot3(pq, nf);
   if (region == FACE) {
+    const double s = dot3(pq, nf);
     const double sg = (two_sided && s < 0.0) ? -1.0 : 1.0;
     for (int k = 0; k < 3; k++) n[k] = sg * nf[k];
     return sg * s;
@@ -245,28 +255,40 @@ SPHCUT_INLINE double contact_normal_from(const double *p, const double *q, const
     for (int k = 0; k < 3; k++) n[k] = nf[k];
     return 0.0;
   }
+  const double s = dot3(pq, ps ? ps : nf);
   const double sg = (!two_sided && s < 0.0) ? -1.0 : 1.0;
   for (int k = 0; k < 3; k++) n[k] = sg * pq[k] / l;
   return sg * l;
 }
 
-// triangle abc
+/* the pseudo-normal of feature `region` of an element from its block pn of pseudo-normals
+   (TriBinView::pnorm: a triangle 6 vectors, edges AB BC CA then vertices A B C; a segment 2,
+   vertices A B); nullptr for a FACE hit or when pn is nullptr */
+SPHCUT_INLINE const double *feature_pseudo_normal(const double *pn, int nvert, int region)
+{
+  if (!pn || region == FACE) return nullptr;
+  if (nvert == 3) return pn + 3 * (region - EDGE_AB);
+  return pn + (region == VERT_B ? 3 : 0);
+}
+
+// triangle abc; pn: its 6 pseudo-normals (nullptr: the face normal decides the side)
 SPHCUT_INLINE double contact_normal(const double *p, const double *a, const double *b,
                                     const double *c, const double *q, int region, int two_sided,
-                                    double *n)
+                                    double *n, const double *pn = nullptr)
 {
   double nf[3];
   triangle_normal(a, b, c, nf);
-  return contact_normal_from(p, q, nf, region, two_sided, n);
+  return contact_normal_from(p, q, nf, feature_pseudo_normal(pn, 3, region), region, two_sided, n);
 }
 
-// 2D segment ab (x-y plane)
+// 2D segment ab (x-y plane); pn: its 2 vertex pseudo-normals (nullptr: the segment normal)
 SPHCUT_INLINE double contact_normal_segment(const double *p, const double *a, const double *b,
-                                            const double *q, int region, int two_sided, double *n)
+                                            const double *q, int region, int two_sided, double *n,
+                                            const double *pn = nullptr)
 {
   double nf[3];
   segment_normal(a, b, nf);
-  return contact_normal_from(p, q, nf, region, two_sided, n);
+  return contact_normal_from(p, q, nf, feature_pseudo_normal(pn, 2, region), region, two_sided, n);
 }
 
 /* ----------------------------------------------------------------------
@@ -507,7 +529,26 @@ struct TriBinView {
   int n[3];                // bins per direction (n[2] = 1 for segments)
   const int *start;        // n[0] n[1] n[2] + 1 offsets into index
   const int *index;        // element ids, bin by bin (bin = (iz n[1] + iy) n[0] + ix)
+  const double *pnorm = nullptr;    // per element its feature pseudo-normals (tri_bin_pnorm_stride
+                                    // doubles, see feature_pseudo_normal), or nullptr: face normals
 };
+
+// doubles of pseudo-normals per element: a triangle 3 edges + 3 vertices, a segment 2 vertices
+SPHCUT_INLINE int tri_bin_pnorm_stride(int nvert)
+{
+  return nvert == 3 ? 18 : 6;
+}
+
+/* the signed distance and outward normal of p (tool frame) against element e of the bins, for
+   its closest point q in feature region (contact_normal with the feature's pseudo-normal) */
+SPHCUT_INLINE double tri_bin_contact_normal(const TriBinView &g, int e, const double *p, const double *q,
+                                            int region, int two_sided, double *n)
+{
+  const double *v = g.elem + (g.nvert == 3 ? 9 : 6) * e;
+  const double *pn = g.pnorm ? g.pnorm + tri_bin_pnorm_stride(g.nvert) * e : nullptr;
+  return g.nvert == 3 ? contact_normal(p, v, v + 3, v + 6, q, region, two_sided, n, pn)
+                      : contact_normal_segment(p, v, v + 3, q, region, two_sided, n, pn);
+}
 
 /* closest point of element e to p (triangle or segment); returns |p - q|^2 */
 
@@ -627,9 +668,7 @@ SPHCUT_INLINE int tool_surface(const TriBinView &g, const double *xt, double h, 
   int reg;
   const int e = tri_bin_nearest(g, xt, 2.0 * h, q, reg);
   if (e < 0) return -1;
-  const double *v = g.elem + (g.nvert == 3 ? 9 : 6) * e;
-  d = g.nvert == 3 ? contact_normal(xt, v, v + 3, v + 6, q, reg, 0, n)
-                   : contact_normal_segment(xt, v, v + 3, q, reg, 0, n);
+  d = tri_bin_contact_normal(g, e, xt, q, reg, 0, n);
   return e;
 }
 

@@ -74,32 +74,55 @@ struct Tokens {
   }
 };
 
-// 9 vertex coordinates + stored normal of one facet, checked and placed
-void add_facet(const std::string &file, size_t index, const double *nrm, const double *v,
-               const StlTransform &tf, std::vector<double> &tri)
+std::string fmtg(double x)
+{
+  char buf[40];
+  snprintf(buf, sizeof(buf), "%g", x);
+  return buf;
+}
+
+// a facet (9 doubles) of zero area: twice its area at most 1e-12 of its longest edge squared,
+// or that edge at most 1e-9 of its largest coordinate (below the resolution of the coordinates)
+bool facet_degenerate(const double *v)
 {
   double u[3], w[3], c[3];
   sub3(v + 3, v, u);
   sub3(v + 6, v, w);
   cross3(u, w, c);
-  double lmax2 = 0.0;
+  double lmax2 = 0.0, cmax = 0.0;
   for (int e = 0; e < 3; e++) {
     double d[3];
     sub3(v + 3 * ((e + 1) % 3), v + 3 * e, d);
     lmax2 = std::max(lmax2, dot3(d, d));
   }
-  const double area2 = len3(c);
-  if (!(area2 > 1.0e-12 * lmax2))
-    fail(file, "facet " + std::to_string(index) + " is degenerate (zero area)");
+  for (int k = 0; k < 9; k++) cmax = std::max(cmax, std::fabs(v[k]));
+  return !(len3(c) > 1.0e-12 * lmax2) || !(lmax2 > 1.0e-18 * cmax * cmax);
+}
+
+// 9 vertex coordinates + stored normal of one facet, checked and placed
+void add_facet(const std::string &file, size_t index, const double *nrm, const double *v,
+               const StlTransform &tf, std::vector<double> &tri)
+{
+  if (facet_degenerate(v)) fail(file, "facet " + std::to_string(index) + " is degenerate (zero area)");
+  double c[3], u[3], w[3];
+  sub3(v + 3, v, u);
+  sub3(v + 6, v, w);
+  cross3(u, w, c);
   const double ln = len3(nrm);
   if (ln > 0.0 && dot3(nrm, c) < 0.0)
     fail(file, "facet " + std::to_string(index) + ": stored normal " + fmt3(nrm) +
              " disagrees with its vertex winding (right-hand rule gives the opposite side)");
-  for (int k = 0; k < 3; k++) {
-    double y[3];
-    tf.apply(v + 3 * k, y);
-    for (int a = 0; a < 3; a++) tri.push_back(y[a]);
-  }
+  double y[9];
+  for (int k = 0; k < 3; k++) tf.apply(v + 3 * k, y + 3 * k);
+  for (int k = 0; k < 9; k++)
+    if (!std::isfinite(y[k]))
+      fail(file, "facet " + std::to_string(index) + " has a non-finite vertex after scale " + fmtg(tf.scale));
+  // a scale that shrinks the facets below the resolution of their coordinates (scale 1e-30 with
+  // a shift) makes them degenerate: every particle near the tool would see the same distance
+  if (facet_degenerate(y))
+    fail(file, "facet " + std::to_string(index) + " is degenerate (zero area) after scale " + fmtg(tf.scale) +
+             " (its vertices " + fmt3(y) + " " + fmt3(y + 3) + " " + fmt3(y + 6) + ")");
+  tri.insert(tri.end(), y, y + 9);
 }
 
 uint32_t get_u32(const unsigned char *p)
@@ -227,6 +250,26 @@ void check_elem(const std::vector<double> &e, int nvert, const char *who)
                                 std::to_string(3 * nvert));
 }
 
+// weld: an id per vertex reference (3 doubles each) of the element array, equal for equal
+// coordinates (sort the references)
+std::vector<long> weld_vertices(const std::vector<double> &pts)
+{
+  const size_t nv = pts.size() / 3;
+  std::vector<size_t> order(nv);
+  for (size_t k = 0; k < nv; k++) order[k] = k;
+  auto less = [&](size_t a, size_t b) {
+    return std::lexicographical_compare(&pts[3 * a], &pts[3 * a + 3], &pts[3 * b], &pts[3 * b + 3]);
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<long> id(nv);
+  long next = -1;
+  for (size_t k = 0; k < nv; k++) {
+    if (k == 0 || less(order[k - 1], order[k])) next++;
+    id[order[k]] = next;
+  }
+  return id;
+}
+
 std::ofstream open_out(const std::string &file, bool binary)
 {
   std::ofstream out(file, binary ? std::ios::binary : std::ios::out);
@@ -312,19 +355,7 @@ MeshClosure mesh_closure(const std::vector<double> &tri)
   check_elem(tri, 3, "mesh_closure");
   MeshClosure out;
   const size_t nv = tri.size() / 3;
-  // weld: vertex ids by exact coordinates (sort the vertex references)
-  std::vector<size_t> order(nv);
-  for (size_t k = 0; k < nv; k++) order[k] = k;
-  auto less = [&](size_t a, size_t b) {
-    return std::lexicographical_compare(&tri[3 * a], &tri[3 * a + 3], &tri[3 * b], &tri[3 * b + 3]);
-  };
-  std::sort(order.begin(), order.end(), less);
-  std::vector<long> id(nv);
-  long next = -1;
-  for (size_t k = 0; k < nv; k++) {
-    if (k == 0 || less(order[k - 1], order[k])) next++;
-    id[order[k]] = next;
-  }
+  const std::vector<long> id = weld_vertices(tri);
   // directed edges as (low id, high id, +1 if low -> high else -1), sorted
   struct Edge {
     long a, b;
@@ -367,10 +398,40 @@ MeshClosure mesh_closure(const std::vector<double> &tri)
   return out;
 }
 
+double mesh_volume(const std::vector<double> &tri)
+{
+  check_elem(tri, 3, "mesh_volume");
+  if (tri.empty()) return 0.0;
+  const double *o = tri.data();    // about the first vertex: no cancellation far from the origin
+  double vol = 0.0;
+  for (size_t f = 0; f < tri.size() / 9; f++) {
+    const double *v = tri.data() + 9 * f;
+    double a[3], b[3], c[3], bc[3];
+    sub3(v, o, a);
+    sub3(v + 3, o, b);
+    sub3(v + 6, o, c);
+    cross3(b, c, bc);
+    vol += dot3(a, bc);
+  }
+  return vol / 6.0;
+}
+
 void require_closed_mesh(const std::string &file, const std::vector<double> &tri)
 {
   const MeshClosure c = mesh_closure(tri);
-  if (c.closed()) return;
+  if (c.closed()) {
+    // closed and consistent, but the facets may all be turned inward (a negative volume): the
+    // particles outside would be taken as inside (issue 23)
+    const double diag = bounding_diagonal(tri);
+    const double vol = mesh_volume(tri);
+    if (vol < -1.0e-12 * diag * diag * diag)
+      fail(file, "the closed mesh encloses a negative volume (" + fmtg(vol) +
+                 "): its facet normals point inward (reverse the vertex order of every facet)");
+    if (!(vol > 1.0e-12 * diag * diag * diag))
+      fail(file, "the closed mesh encloses no volume (" + fmtg(vol) + ", bounding-box diagonal " + fmtg(diag) +
+                 "): the tool must be the surface of a solid");
+    return;
+  }
   std::string what = "the mesh is not closed: ";
   if (c.open_edges)
     what += std::to_string(c.open_edges) + " edge(s) belong to one facet only";
@@ -581,6 +642,145 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim, std::vec
 
 /* ---------------------------------------------------------------------- */
 
+std::vector<double> stl_section_z0(const std::string &file, const std::vector<double> &tri)
+{
+  check_elem(tri, 3, "stl_section_z0");
+  std::vector<double> seg;
+  for (size_t t = 0; t + 9 <= tri.size(); t += 9) {
+    const double *v = &tri[t];
+    double pts[2][3];
+    int np = 0;
+    for (int e = 0; e < 3 && np < 2; e++) {
+      const double *a = v + 3 * e, *b = v + 3 * ((e + 1) % 3);
+      if ((a[2] < 0.0) == (b[2] < 0.0)) continue;
+      // from the end below the plane: the neighbouring facet, which runs the edge the other
+      // way, gets the same point to the bit
+      if (b[2] < 0.0) std::swap(a, b);
+      const double s = b[2] == 0.0 ? 1.0 : a[2] / (a[2] - b[2]);
+      for (int k = 0; k < 2; k++) pts[np][k] = s == 1.0 ? b[k] : a[k] + s * (b[k] - a[k]);
+      pts[np][2] = 0.0;
+      np++;
+    }
+    if (np < 2 || (pts[0][0] == pts[1][0] && pts[0][1] == pts[1][1])) continue;
+    double nt[3];
+    triangle_normal(v, v + 3, v + 6, nt);
+    // segment a->b has outward normal (dy, -dx): order the points accordingly
+    const double dxs = pts[1][0] - pts[0][0], dys = pts[1][1] - pts[0][1];
+    const int flip = dys * nt[0] - dxs * nt[1] < 0.0;
+    const double *p0 = flip ? pts[1] : pts[0], *p1 = flip ? pts[0] : pts[1];
+    seg.insert(seg.end(), p0, p0 + 3);
+    seg.insert(seg.end(), p1, p1 + 3);
+  }
+  if (seg.empty()) fail(file, "no facet crosses the plane z = 0 (2D section is empty)");
+  return seg;
+}
+
+double bounding_diagonal(const std::vector<double> &pts)
+{
+  if (pts.size() < 3) return 0.0;
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; k++) lo[k] = hi[k] = pts[k];
+  for (size_t i = 0; i + 3 <= pts.size(); i += 3)
+    for (int k = 0; k < 3; k++) {
+      lo[k] = std::min(lo[k], pts[i + k]);
+      hi[k] = std::max(hi[k], pts[i + k]);
+    }
+  return sqrt(sq(hi[0] - lo[0]) + sq(hi[1] - lo[1]) + sq(hi[2] - lo[2]));
+}
+
+std::vector<double> pseudo_normals(const std::vector<double> &elem, int nvert)
+{
+  check_elem(elem, nvert, "pseudo_normals");
+  const size_t stride = 3 * nvert, ne = elem.size() / stride;
+  const int nf = tri_bin_pnorm_stride(nvert) / 3;    // features per element
+  const std::vector<long> id = weld_vertices(elem);
+  const size_t nid = id.empty() ? 0 : (size_t) *std::max_element(id.begin(), id.end()) + 1;
+  // face normals; every feature starts with its element's (the fallback)
+  std::vector<double> fn(3 * ne), pn(3 * nf * ne);
+  for (size_t e = 0; e < ne; e++) {
+    const double *v = elem.data() + stride * e;
+    if (nvert == 3) triangle_normal(v, v + 3, v + 6, &fn[3 * e]);
+    else segment_normal(v, v + 3, &fn[3 * e]);
+    for (int f = 0; f < nf; f++)
+      for (int k = 0; k < 3; k++) pn[3 * (nf * e + f) + k] = fn[3 * e + k];
+  }
+  // the sum at a feature replaces the fallback unless it vanishes (a fin)
+  auto put = [&](double *dst, const double *sum) {
+    const double l = len3(sum);
+    if (l > 1.0e-12)
+      for (int k = 0; k < 3; k++) dst[k] = sum[k] / l;
+  };
+  std::vector<double> vsum(3 * nid, 0.0);
+  std::vector<char> vok(nid, 1);
+  if (nvert == 2) {
+    // a 2D vertex joins one segment that ends there (as its B) and one that starts there (A)
+    std::vector<int> nin(nid, 0), nout(nid, 0);
+    for (size_t e = 0; e < ne; e++) {
+      nout[id[2 * e]]++;
+      nin[id[2 * e + 1]]++;
+      for (int m = 0; m < 2; m++)
+        for (int k = 0; k < 3; k++) vsum[3 * id[2 * e + m] + k] += fn[3 * e + k];
+    }
+    for (size_t e = 0; e < ne; e++)
+      for (int m = 0; m < 2; m++) {
+        const long i = id[2 * e + m];
+        if (nin[i] == 1 && nout[i] == 1) put(&pn[3 * (2 * e + m)], &vsum[3 * i]);
+      }
+    return pn;
+  }
+  // triangles: the angle-weighted vertex sums
+  for (size_t e = 0; e < ne; e++) {
+    const double *v = elem.data() + 9 * e;
+    for (int m = 0; m < 3; m++) {
+      double u[3], w[3];
+      sub3(v + 3 * ((m + 1) % 3), v + 3 * m, u);
+      sub3(v + 3 * ((m + 2) % 3), v + 3 * m, w);
+      const double lu = len3(u), lw = len3(w);
+      if (!(lu > 0.0 && lw > 0.0)) continue;
+      const double ang = acos(std::max(-1.0, std::min(1.0, dot3(u, w) / (lu * lw))));
+      for (int k = 0; k < 3; k++) vsum[3 * id[3 * e + m] + k] += ang * fn[3 * e + k];
+    }
+  }
+  // edges: (low id, high id, direction, element, local edge), sorted; a manifold edge is used
+  // twice, once in each direction
+  struct Edge {
+    long a, b;
+    int dir;
+    size_t e;
+    int m;
+  };
+  std::vector<Edge> edges;
+  edges.reserve(3 * ne);
+  for (size_t e = 0; e < ne; e++)
+    for (int m = 0; m < 3; m++) {
+      const long i = id[3 * e + m], j = id[3 * e + (m + 1) % 3];
+      edges.push_back(i < j ? Edge{i, j, 1, e, m} : Edge{j, i, -1, e, m});
+    }
+  std::sort(edges.begin(), edges.end(),
+            [](const Edge &p, const Edge &q) { return p.a < q.a || (p.a == q.a && p.b < q.b); });
+  for (size_t k = 0; k < edges.size();) {
+    size_t m = k;
+    while (m < edges.size() && edges[m].a == edges[k].a && edges[m].b == edges[k].b) m++;
+    const Edge &p = edges[k];
+    if (m - k == 2 && p.a != p.b && p.dir + edges[k + 1].dir == 0) {
+      double sum[3];
+      for (int c = 0; c < 3; c++) sum[c] = fn[3 * p.e + c] + fn[3 * edges[k + 1].e + c];
+      for (size_t r = k; r < m; r++) put(&pn[3 * (6 * edges[r].e + edges[r].m)], sum);
+    } else {
+      vok[p.a] = vok[p.b] = 0;    // a border or non-manifold edge: its ends keep face normals
+    }
+    k = m;
+  }
+  for (size_t e = 0; e < ne; e++)
+    for (int m = 0; m < 3; m++) {
+      const long i = id[3 * e + m];
+      if (vok[i]) put(&pn[3 * (6 * e + 3 + m)], &vsum[3 * i]);
+    }
+  return pn;
+}
+
+/* ---------------------------------------------------------------------- */
+
 TriBinView TriBins::view() const
 {
   TriBinView v;
@@ -595,6 +795,7 @@ TriBinView TriBins::view() const
   v.size = size;
   v.start = start.data();
   v.index = index.data();
+  v.pnorm = pnorm.empty() ? nullptr : pnorm.data();
   return v;
 }
 
@@ -609,6 +810,7 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
   bins.elem = elem;
   if (nvert == 2)
     for (size_t e = 0; e < ne; e++) bins.elem[stride * e + 2] = bins.elem[stride * e + 5] = 0.0;
+  bins.pnorm = pseudo_normals(bins.elem, nvert);
 
   // embedded spheres: vertex centroid, radius enclosing all vertices
   bins.sphere.assign(4 * ne, 0.0);
@@ -724,11 +926,9 @@ double tool_signed_distance(const TriBins &bins, const double *x, double r0, std
           for (int k = 0; k < 3; k++) bestq[k] = q[k];
         }
       }
-      const double *e = g.elem + (size_t) best * (g.nvert == 3 ? 9 : 6);
       const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
       double n[3];
-      return g.nvert == 3 ? contact_normal(xx, e, e + 3, e + 6, bestq, bestreg, 0, n)
-                          : contact_normal_segment(xx, e, e + 3, bestq, bestreg, 0, n);
+      return tri_bin_contact_normal(g, best, xx, bestq, bestreg, 0, n);
     }
     if (r * r > 4.0 * diag2) return HUGE_VAL;
   }

@@ -51,6 +51,10 @@ struct StlTransform {
    Returns 9 doubles per facet after the transform.  Checks (throw):
    missing/unreadable or empty file, no facets, truncated binary,
    malformed ASCII (line number given), a degenerate (zero area) facet,
+   as read and after the transform (twice its area at most 1e-12 of its
+   longest edge squared, or its longest edge at most 1e-9 of the largest
+   coordinate of the facet: below the resolution of the coordinates, e.g.
+   scale 1e-30 with a shift; the message names the facet and the scale),
    and a stored normal (non-zero) that disagrees with the vertex winding
    (dot < 0; facet index given, facets count from 0).
 ------------------------------------------------------------------------- */
@@ -76,8 +80,25 @@ struct MeshClosure {
 
 MeshClosure mesh_closure(const std::vector<double> &tri);
 
-// throws std::runtime_error ("STL file '...': the mesh is not closed: ...") unless closed
+// the volume a closed triangle mesh encloses, sum over facets of a.(b x c)/6 (about its first
+// vertex): > 0 with outward normals, < 0 when every facet is turned inward
+double mesh_volume(const std::vector<double> &tri);
+
+// throws std::runtime_error ("STL file '...': the mesh is not closed: ...") unless closed, and
+// unless it encloses a positive volume ("... negative volume ...: its facet normals point
+// inward", or "encloses no volume" when |V| <= 1e-12 of its bounding-box diagonal cubed)
 void require_closed_mesh(const std::string &file, const std::vector<double> &tri);
+
+// the 2D tool of an STL solid: its section with the plane z = 0, one segment (6 doubles, z = 0)
+// per facet that crosses it (a vertex at z = 0 counts as above), oriented by the facet normal
+// (outward normal (dy, -dx)).  The crossing point of a mesh edge is computed from its end
+// points in a fixed order, so the segments of neighbouring facets meet at bitwise equal points
+// (the vertex pseudo-normals of tri_bin_build find them); segments of zero length are dropped.
+// Throws ("STL file '...': no facet crosses the plane z = 0 ...") when the section is empty.
+std::vector<double> stl_section_z0(const std::string &file, const std::vector<double> &tri);
+
+// the diagonal of the bounding box of a vertex array (3 doubles per vertex: elements of any kind)
+double bounding_diagonal(const std::vector<double> &pts);
 
 // ASCII STL, coordinates with 17 significant digits (exact round trip)
 void write_stl_ascii(const std::string &file, const std::vector<double> &tri,
@@ -133,13 +154,15 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim,
    contact bins (host build, see TriBinView in sphcut_contact.h).  bin_size
    is typically the contact cutoff (>= the query radius keeps a query at
    <= 8 bins); it is enlarged when the grid would exceed max_bins.  The
-   elements are copied (segment z set to 0).  view() points into this
+   elements are copied (segment z set to 0), and the pseudo-normals of
+   their features are computed (pseudo_normals).  view() points into this
    object: rebuild the view after moving or copying it.
 ------------------------------------------------------------------------- */
 
 struct TriBins {
   int nvert = 3;
   std::vector<double> elem, sphere;
+  std::vector<double> pnorm;    // pseudo_normals(elem, nvert)
   std::vector<int> start, index;
   double lo[3] = {0.0, 0.0, 0.0};
   double size = 0.0;
@@ -151,9 +174,33 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
                    long max_bins = 1L << 24);
 
 /* ----------------------------------------------------------------------
+   angle-weighted pseudo-normals (Baerentzen and Aanaes, IEEE TVCG 11,
+   2005) of the features of every element, unit vectors, in the layout
+   of TriBinView::pnorm: per triangle 6 (edges AB BC CA, vertices A B C),
+   per segment 2 (vertices A B).  Vertices are matched by their exact
+   coordinates (as mesh_closure).
+     edge: the sum of the normals of its two facets;
+     vertex: the sum of the normals of its facets, each weighted by the
+       facet's angle at the vertex;
+     2D vertex: the sum of the normals of its two segments.
+   The sign of (p - q) against it tells inside from outside for the
+   closest point q on that feature of a closed mesh, whatever the angle.
+   Where the mesh is not a closed manifold there (an edge not used by
+   exactly two facets in opposite directions: the border of an open
+   sheet, a non-manifold or inconsistent edge; a vertex on such an edge;
+   a 2D vertex not joining exactly one incoming and one outgoing segment)
+   and where the sum vanishes (a zero-thickness fin), the feature takes
+   the element's own face normal: the side rule of the face, as before
+   pseudo-normals (right for open sheets away from sharp features).
+------------------------------------------------------------------------- */
+
+std::vector<double> pseudo_normals(const std::vector<double> &elem, int nvert);
+
+/* ----------------------------------------------------------------------
    signed distance of x (tool frame) to the surface of a closed tool, < 0
    inside, from its closest element with the sign rule of the contact
-   (contact_normal, closed solid).  The bins are searched within r0, then
+   (tri_bin_contact_normal, closed solid: pseudo-normals at edges and
+   vertices).  The bins are searched within r0, then
    2 r0, 4 r0, ... (a point deep inside still finds the surface); a point
    outside the bins' box is outside: HUGE_VAL.  cand is scratch space,
    grown as needed.

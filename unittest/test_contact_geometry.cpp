@@ -191,18 +191,6 @@ P3 vtx(const std::vector<double> &t, size_t f, int m)
   return P3{{t[9 * f + 3 * m], t[9 * f + 3 * m + 1], t[9 * f + 3 * m + 2]}};
 }
 
-// 6 V = sum over facets of a . (b x c)
-double mesh_volume(const std::vector<double> &t)
-{
-  double vol = 0.0;
-  for (size_t f = 0; f < t.size() / 9; f++) {
-    double c[3];
-    cross3(&t[9 * f + 3], &t[9 * f + 6], c);
-    vol += dot3(&t[9 * f], c);
-  }
-  return vol / 6.0;
-}
-
 }    // namespace
 
 /* ----------------------------------------------------------------------
