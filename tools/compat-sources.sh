@@ -44,15 +44,18 @@ cannot_download() {
   exit 77
 }
 
-complete=1
-for e in "${LAMMPS_DEBS[@]}"; do [ -f "$DIR/lammps-${e#*:}/.complete" ] || complete=0; done
-[ -f "$DIR/kokkos-${KOKKOS_DEB%-*}/.complete" ] || complete=0
-if [ $complete = 1 ]; then echo "$DIR"; exit 0; fi
+all_complete() {
+  local e
+  for e in "${LAMMPS_DEBS[@]}"; do [ -f "$DIR/lammps-${e#*:}/.complete" ] || return 1; done
+  [ -f "$DIR/kokkos-${KOKKOS_DEB%-*}/.complete" ]
+}
+if all_complete; then echo "$DIR"; exit 0; fi
 
 command -v apt-get >/dev/null 2>&1 || cannot_download "(no apt-get on this machine)"
 mkdir -p "$DIR"
 exec 9>"$DIR/.lock"
-flock 9
+flock 9      # another checkout's test may be fetching: wait for it, then use what it fetched
+if all_complete; then echo "$DIR"; exit 0; fi
 
 # ---------------------------------------------------------------- private apt configuration
 APTDIR="$DIR/apt"
