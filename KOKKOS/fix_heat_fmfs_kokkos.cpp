@@ -112,11 +112,8 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   }
   const int n = atom->ntypes + 1;
   d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "heat/fmfs:mat");
-  std::vector<double> hij((size_t) n * n, 0.0), h(n, 0.0);
-  for (int i = 1; i < n; i++) {
-    h[i] = pair->smoothing_length(i);
-    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = pair->smoothing_length(i, j);
-  }
+  std::vector<double> h(n, 0.0);
+  for (int i = 1; i < n; i++) h[i] = pair->smoothing_length(i);
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
   d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "heat/fmfs:tp");
@@ -217,19 +214,89 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
   fixkk->k_state.template modify<DeviceType>();
 }
 
-/* the non-conservative form: FMFS Laplacian or Brookshaw per particle (FixHeatFMFS::conduction) */
+// what the heat kernels read on the device (captured by value)
+template <class DeviceType> struct LAMMPS_NS::HeatFMFSViews {
+  typedef typename DeviceType::memory_space mem;
+  sphcut::AtomViews<DeviceType> av;
+  Kokkos::View<const sphcut::Material *, mem> mat;
+  Kokkos::View<const double *, mem> hij;
+  Kokkos::View<const sphcut::ThermalPair *, mem> tp;
+  typename ArrayTypes<DeviceType>::t_double_2d fw;
+  int nt, kern, gb, use_rmass;
+  KOKKOS_INLINE_FUNCTION double volume(int j) const
+  {
+    return (use_rmass ? av.rmass(j) : av.mass(av.type(j))) / av.st(j, FixSPHJCThermal::RHO_F);
+  }
+};
+
+namespace {
+
+// the listed neighbours of particle i as the sphcut_thermal.h particle functions read them:
+// the pair's support and kernel computed on the fly (one walk)
+template <class DeviceType> struct DeviceNeighbours {
+  static constexpr bool TWO_WALKS = false;
+  const HeatFMFSViews<DeviceType> &d;
+  int i, itn;    // itn: the row of i's type in the type-pair tables
+  double xi[3];
+  KOKKOS_INLINE_FUNCTION DeviceNeighbours(const HeatFMFSViews<DeviceType> &d_, int i_) :
+      d(d_), i(i_), itn(d_.av.type(i_) * d_.nt), xi{d_.av.x(i_, 0), d_.av.x(i_, 1), d_.av.x(i_, 2)}
+  {
+  }
+  KOKKOS_INLINE_FUNCTION int size() const { return d.av.numneigh(i); }
+  KOKKOS_INLINE_FUNCTION int index(int k) const
+  {
+    const int j = d.av.neighbors(i, k) & NEIGHMASK;
+    return d.av.mask(j) & d.gb ? j : -1;
+  }
+  KOKKOS_INLINE_FUNCTION void pos(int j, double *xj) const
+  {
+    for (int a = 0; a < 3; a++) xj[a] = d.av.x(j, a);
+  }
+  KOKKOS_INLINE_FUNCTION double h(int j) const { return d.hij(itn + d.av.type(j)); }
+  KOKKOS_INLINE_FUNCTION bool pair(int k, sphcut::HeatPair &p) const
+  {
+    p.j = index(k);
+    if (p.j < 0) return false;
+    p.tp = &d.tp(itn + d.av.type(p.j));
+    double xj[3], r2;
+    pos(p.j, xj);
+    return sphcut::thermal_support(*p.tp, d.kern, xi, xj, p.dx, r2, p.wfac, p.ir2);
+  }
+  KOKKOS_INLINE_FUNCTION double volume(int j) const { return d.volume(j); }
+  KOKKOS_INLINE_FUNCTION double temp(int j) const { return d.av.st(j, FixSPHJCThermal::TEMP_F); }
+  KOKKOS_INLINE_FUNCTION const double *weights(int j) const { return &d.fw(j, 0); }
+  KOKKOS_INLINE_FUNCTION double kappa(int j) const { return d.mat(d.av.type(j)).kappa; }
+};
+}    // namespace
+
+template <class DeviceType> HeatFMFSViews<DeviceType> FixHeatFMFSKokkos<DeviceType>::heat_views()
+{
+  HeatFMFSViews<DeviceType> d;
+  d.av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
+  d.mat = d_mat;
+  d.hij = d_hij;
+  d.tp = d_tp;
+  d.fw = k_fwts.template view<DeviceType>();
+  d.nt = atom->ntypes + 1;
+  d.kern = pair->kernel();
+  d.gb = groupbit;
+  d.use_rmass = atom->rmass_flag;
+  return d;
+}
+
+/* the non-conservative form (FixHeatFMFS::conduction): sphcut::conduction_particle per particle */
 template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_kk()
 {
   using F = FixSPHJCThermal;
-  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
+  const HeatFMFSViews<DeviceType> d = heat_views();
+  const auto &av = d.av;
   typename AT::t_double_2d surf;
   if (surfkk) surf = surfkk->k_out.template view<DeviceType>();
   auto mat = d_mat;
-  auto hij = d_hij;
-  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
+  const int gb = groupbit, use_rmass = atom->rmass_flag, kern = d.kern;
   const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
-  const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
-  const int losses = hconv > 0.0 || emiss > 0.0;
+  const double flam = fmfs_lambda;
+  const sphcut::HeatLosses hl = losses();
   double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
 
   Kokkos::parallel_for("sphcut:heat:zero_held_pp",
@@ -237,62 +304,20 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   Kokkos::parallel_reduce("sphcut:heat:per_particle",
       sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
-        const int i = av.ilist(ii);
-        if (!(av.mask(i) & gb)) return;
-        const int itype = av.type(i);
+        const int i = d.av.ilist(ii);
+        if (!(d.av.mask(i) & gb)) return;
+        const int itype = d.av.type(i);
         const sphcut::Material &mi = mat(itype);
         if (mi.cp <= 0.0) return;
-        const double Ti = av.st(i, F::TEMP_F), rhoi = av.st(i, F::RHO_F);
-        const double massi = use_rmass ? av.rmass(i) : av.mass(itype);
+        const double Ti = d.av.st(i, F::TEMP_F);
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
-        int use_fmfs = fmfs && !is_surf && mi.kappa > 0.0;
-        double brook = 0.0;
-        sphcut::FmfsAccum<DIM> acc;
-        if (use_fmfs) sphcut::fmfs_zero<DIM>(acc);
-        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
-        for (int jj = 0; jj < av.numneigh(i); jj++) {
-          const int j = av.neighbors(i, jj) & NEIGHMASK;
-          if (!(av.mask(j) & gb)) continue;
-          const int jtype = av.type(j);
-          const double h = hij(itype * nt + jtype);
-          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
-          double dx[3], r2;
-          if (!sphcut::in_support(xi, xj, h, dx, r2)) continue;
-          double w, wfac;
-          sphcut::kernel_w_gradfac(kern, DIM, sqrt(r2), h, w, wfac);
-          const double Tj = av.st(j, F::TEMP_F);
-          const double vj = (use_rmass ? av.rmass(j) : av.mass(jtype)) / av.st(j, F::RHO_F);
-          const double kj = mat(jtype).kappa;
-          brook += vj * sphcut::brookshaw_pair_radial(Ti, Tj, mi.kappa, kj, wfac);
-          if (use_fmfs) {
-            if (kj != mi.kappa) {
-              use_fmfs = 0;
-              continue;
-            }
-            const double r[3] = {-dx[0], -dx[1], -dx[2]};
-            const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
-            sphcut::fmfs_add<DIM>(acc, r, g, vj, Tj - Ti);
-          }
-        }
-        double rate, lap;
-        if (use_fmfs && sphcut::surface_lambda<DIM>(acc.B) < flam) use_fmfs = 0;
-        if (use_fmfs && sphcut::fmfs_laplacian<DIM>(acc, lap)) {
-          rate = mi.kappa * lap;
-          c_fmfs += 1.0;
-        } else {
-          if (use_fmfs) c_fall += 1.0;
-          rate = brook;
-          c_brook += 1.0;
-        }
-        double dT = rate / (rhoi * mi.cp);
-        if (is_surf && losses) {
-          double qc, qr;
-          sphcut::surface_losses(DIM, massi / rhoi, Ti, hc, tc, es, tr, qc, qr);
-          p_conv += qc;
-          p_rad += qr;
-          dT -= (qc + qr) / (massi * mi.cp);
-        }
-        av.st(i, F::HELD) = dT;
+        const DeviceNeighbours<DeviceType> nbr(d, i);
+        double rate;
+        const int s = sphcut::conduction_particle<DIM>(nbr, kern, nbr.xi, Ti, mi.kappa, fmfs && !is_surf && mi.kappa > 0.0,
+                                                       flam, rate);
+        sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
+        d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
+                                                use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       },
       pc, pr, nf, nb, nfb);
   fixkk->k_state.template modify<DeviceType>();
@@ -303,35 +328,40 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   n_fallback += (bigint) nfb;
 }
 
-/* the conservative form (FixHeatFMFS::conduction_conservative): one thread per particle walks
-   its neighbours once for the surface indicator (fused: into the compute's values) and the FMFS
-   moments, the same sums in the same order as the CPU fix */
+/* the conservative form (FixHeatFMFS::conduction_conservative): the scheme pass, the device
+   forward communication of the weights, the exchange pass */
 template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_conservative_kk()
 {
-  using F = FixSPHJCThermal;
-  using CS = ComputeSurfaceLambda;
   if ((int) k_fwts.extent(0) < atom->nmax) k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NW);
   k_fwts.template sync<DeviceType>();
-  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
-  auto fw = k_fwts.template view<DeviceType>();
   typename AT::t_double_2d surf;
   if (surfkk) {
     surfkk->k_out.template sync<DeviceType>();
     surf = surfkk->k_out.template view<DeviceType>();
   }
-  auto mat = d_mat;
-  auto tp = d_tp;
-  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
-  const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
-  const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
-  const double thr = surfkk ? surfkk->threshold : 0.0;
-  const int losses = hconv > 0.0 || emiss > 0.0;
-  const int nall = atom->nlocal + atom->nghost;
+  const HeatFMFSViews<DeviceType> d = heat_views();
+  scheme_pass_kk<DIM>(d, surf);
+  sphcut::forward_comm(comm, this);
+  k_fwts.template sync<DeviceType>();
+  exchange_pass_kk<DIM>(d, surf);
+}
 
-  // 1. the surface indicator, the scheme of each particle and its FMFS pair weights
+/* 1. one thread per particle walks its neighbours once for the surface indicator (fused: into
+   the compute's values) and the FMFS moments (sphcut::heat_scheme), the same sums in the same
+   order as the CPU fix: the scheme of each particle and its FMFS pair weights */
+template <class DeviceType>
+template <int DIM>
+void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceType> &d,
+                                                   const typename AT::t_double_2d &surf)
+{
+  using CS = ComputeSurfaceLambda;
+  auto fw = d.fw;
+  auto mat = d_mat;
+  const int gb = groupbit, has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
+  const double flam = fmfs_lambda, thr = surfkk ? surfkk->threshold : 0.0;
   double nf = 0.0, nb = 0.0, nfb = 0.0;
   Kokkos::parallel_for("sphcut:heat:zero_weights",
-      sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
+      sphcut::range<DeviceType>(0, atom->nlocal + atom->nghost), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
   if (fuse)
     Kokkos::parallel_for(
         "sphcut:heat:zero_surface", sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
@@ -340,63 +370,25 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   Kokkos::parallel_reduce("sphcut:heat:weights",
       sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
-        const int i = av.ilist(ii);
-        if (!(av.mask(i) & gb)) return;
-        const int itype = av.type(i);
-        const sphcut::Material &mi = mat(itype);
+        const int i = d.av.ilist(ii);
+        if (!(d.av.mask(i) & gb)) return;
+        const sphcut::Material &mi = mat(d.av.type(i));
         const int conducts = mi.cp > 0.0;
         const int was_surf = !fuse && has_surf && surf(i, CS::FLAG) > 0.5;
-        int cand = conducts && fmfs && mi.kappa > 0.0 && !was_surf;
-        if (!fuse && !cand) {
-          if (conducts) c_brook += 1.0;
-          return;
-        }
-        const int itn = itype * nt;
-        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
-        sphcut::SupportMoments<DIM> m;
-        sphcut::support_zero<DIM>(m, cand);
-        for (int jj = 0; jj < av.numneigh(i); jj++) {
-          const int j = av.neighbors(i, jj) & NEIGHMASK;
-          if (!(av.mask(j) & gb)) continue;
-          const sphcut::ThermalPair &tij = tp(itn + av.type(j));
-          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
-          double dx[3], r2, wfac, ir2;
-          if (!sphcut::thermal_support(tij, kern, xi, xj, dx, r2, wfac, ir2)) continue;
-          const double r[3] = {-dx[0], -dx[1], -dx[2]};    // x_j - x_i
-          const double s = -wfac * ((use_rmass ? av.rmass(j) : av.mass(av.type(j))) / av.st(j, F::RHO_F));
-          sphcut::support_add_surface<DIM>(m, r, s);
-          if (cand) {
-            if (tij.same_kappa) sphcut::support_add_fmfs<DIM>(m, r, s, ir2);
-            else cand = 0;    // material interface: Brookshaw
-          }
-        }
-        double lam = 0.0;
+        const int cand = conducts && fmfs && mi.kappa > 0.0 && !was_surf;
+        sphcut::HeatSurface sv;
+        double wts[NW - 1];
+        const int s = sphcut::heat_scheme<DIM>(DeviceNeighbours<DeviceType>(d, i), conducts, cand, fuse, thr, flam, sv, wts);
         if (fuse) {
-          double n[3];
-          lam = sphcut::support_surface<DIM>(m, thr, n);
-          surf(i, CS::LAMBDA) = lam;
-          surf(i, CS::FLAG) = lam < thr ? 1.0 : 0.0;
-          for (int a = 0; a < DIM; a++) surf(i, CS::NX + a) = n[a];
-          if (lam < thr) cand = 0;
-        } else if (cand) {
-          double B[DIM][DIM];
-          sphcut::support_matrix<DIM>(m, B);
-          lam = sphcut::surface_lambda<DIM>(B);
+          surf(i, CS::LAMBDA) = sv.lambda;
+          surf(i, CS::FLAG) = sv.flag;
+          for (int a = 0; a < DIM; a++) surf(i, CS::NX + a) = sv.n[a];
         }
-        if (!conducts) return;
-        int ok = 0;
-        if (cand && lam >= flam) {
-          sphcut::FmfsAccum<DIM> acc;
-          sphcut::support_to_fmfs<DIM>(m, acc);
-          double wts[NW - 1];
-          if (sphcut::fmfs_weights<DIM>(acc, wts)) {
-            for (int k = 0; k < NW - 1; k++) fw(i, 1 + k) = wts[k];
-            ok = 1;
-          } else c_fall += 1.0;
+        if (s == sphcut::HEAT_FMFS) {
+          for (int k = 0; k < NW - 1; k++) fw(i, 1 + k) = wts[k];
+          fw(i, 0) = 1.0;
         }
-        fw(i, 0) = ok ? 1.0 : 0.0;
-        if (ok) c_fmfs += 1.0;
-        else c_brook += 1.0;
+        sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
       },
       nf, nb, nfb);
   k_fwts.template modify<DeviceType>();
@@ -404,52 +396,39 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   n_fmfs += (bigint) nf;
   n_brookshaw += (bigint) nb;
   n_fallback += (bigint) nfb;
-  sphcut::forward_comm(comm, this);
-  k_fwts.template sync<DeviceType>();
+}
 
-  // 2. the pairwise exchange with the mean weight, and the surface losses
+/* 2. the pairwise exchange (sphcut::heat_exchange, each pair from both sides: nothing to
+   scatter) and the surface losses into the held rate */
+template <class DeviceType>
+template <int DIM>
+void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceType> &d,
+                                                     const typename AT::t_double_2d &surf)
+{
+  using F = FixSPHJCThermal;
+  const auto &av = d.av;
+  auto fw = d.fw;
+  auto mat = d_mat;
+  const int gb = groupbit, use_rmass = atom->rmass_flag, has_surf = surfkk != nullptr;
+  const sphcut::HeatLosses hl = losses();
   double pc = 0.0, pr = 0.0;
   Kokkos::parallel_for("sphcut:heat:zero_held",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce("sphcut:heat:exchange",
       sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
-        const int i = av.ilist(ii);
-        if (!(av.mask(i) & gb)) return;
-        const int itype = av.type(i);
+        const int i = d.av.ilist(ii);
+        if (!(d.av.mask(i) & gb)) return;
+        const int itype = d.av.type(i);
         const sphcut::Material &mi = mat(itype);
         if (mi.cp <= 0.0) return;
-        const double Ti = av.st(i, F::TEMP_F), rhoi = av.st(i, F::RHO_F);
-        const double massi = use_rmass ? av.rmass(i) : av.mass(itype);
-        const int fi = fw(i, 0) > 0.0;
-        const int itn = itype * nt;
-        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
-        double rate = 0.0;
-        for (int jj = 0; jj < av.numneigh(i); jj++) {
-          const int j = av.neighbors(i, jj) & NEIGHMASK;
-          if (!(av.mask(j) & gb)) continue;
-          const int jtype = av.type(j);
-          const sphcut::ThermalPair &tij = tp(itn + jtype);
-          const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
-          double dx[3], r2, wfac, ir2;
-          if (!sphcut::thermal_support(tij, kern, xi, xj, dx, r2, wfac, ir2)) continue;
-          const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
-          const double ai = fi ? mi.kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(i, 1), dx, ir2) : tij.brook;
-          const double aj =
-              fw(j, 0) > 0.0 ? mat(jtype).kappa * sphcut::fmfs_pair_weight_radial<DIM>(&fw(j, 1), mdx, ir2) : tij.brook;
-          const double vj = (use_rmass ? av.rmass(j) : av.mass(jtype)) / av.st(j, F::RHO_F);
-          rate += vj * wfac * sphcut::conductance_pair(ai, aj, tij.brook) * (av.st(j, F::TEMP_F) - Ti);
-        }
-        double dT = rate / (rhoi * mi.cp);
-        const int is_surf = has_surf ? surf(i, CS::FLAG) > 0.5 : 0;
-        if (is_surf && losses) {
-          double qc, qr;
-          sphcut::surface_losses(DIM, massi / rhoi, Ti, hc, tc, es, tr, qc, qr);
-          p_conv += qc;
-          p_rad += qr;
-          dT -= (qc + qr) / (massi * mi.cp);
-        }
-        av.st(i, F::HELD) = dT;
+        const double Ti = d.av.st(i, F::TEMP_F);
+        // (NoAdd: V_i is not needed)
+        const double rate = sphcut::heat_exchange<DIM>(DeviceNeighbours<DeviceType>(d, i), mi.kappa, Ti, 0.0, &fw(i, 0),
+                                                       sphcut::NoAdd{});
+        const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
+        d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
+                                                use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       },
       pc, pr);
   fixkk->k_state.template modify<DeviceType>();

@@ -28,6 +28,7 @@ namespace LAMMPS_NS {
 
 class FixSPHJCThermalKokkosBase;
 class ComputeSurfaceLambdaKokkosBase;
+template <class DeviceType> struct HeatFMFSViews;
 
 template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public KokkosBase {
  public:
@@ -65,8 +66,11 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;
   Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;
   DAT::tdual_double_2d k_fwts;    // scheme flag and FMFS weights, local + ghost
+  HeatFMFSViews<DeviceType> heat_views();    // what the heat kernels read
   template <int DIM> void conduction_kk();
   template <int DIM> void conduction_conservative_kk();
+  template <int DIM> void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
+  template <int DIM> void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
   void add_held();
   void set_dirichlet(bool also_temp);
   // the heat the Dirichlet groups took since the host last read it (final_integrate adds to it on

@@ -179,10 +179,13 @@ void FixHeatFMFS::init()
   sphcut::request_full_list(neighbor, this, instance_me, true, false);
   const int nt = atom->ntypes + 1;
   tpair.assign((size_t) nt * nt, sphcut::ThermalPair{});
+  hij.assign((size_t) nt * nt, 0.0);
   for (int it = 1; it < nt; it++)
-    for (int jt = 1; jt < nt; jt++)
+    for (int jt = 1; jt < nt; jt++) {
+      hij[(size_t) it * nt + jt] = pair->smoothing_length(it, jt);
       tpair[(size_t) it * nt + jt] = sphcut::thermal_pair(pair->kernel(), domain->dimension,
                                                           pair->smoothing_length(it, jt), mat[it].kappa, mat[jt].kappa);
+    }
 }
 
 void FixHeatFMFS::init_list(int, NeighList *ptr)
@@ -289,20 +292,55 @@ bool FixHeatFMFS::begin_evaluation()
   return fuse_surface;
 }
 
+namespace {
+// the listed neighbours of one particle as sphcut::conduction_particle reads them
+struct ListedNeighbours {
+  const int *jlist;
+  int n;
+  const int *mask, *type;
+  int groupbit;
+  double *const *x;
+  double *const *st;
+  const double *rmass, *mass;
+  const Material *mat;
+  const double *hrow;    // the smoothing lengths of i's type with each type
+  int size() const { return n; }
+  int index(int k) const
+  {
+    const int j = jlist[k] & NEIGHMASK;
+    return mask[j] & groupbit ? j : -1;
+  }
+  void pos(int j, double *xj) const
+  {
+    for (int a = 0; a < 3; a++) xj[a] = x[j][a];
+  }
+  double h(int j) const { return hrow[type[j]]; }
+  double temp(int j) const { return st[j][FixSPHJCThermal::TEMP_F]; }
+  double volume(int j) const { return (rmass ? rmass[j] : mass[type[j]]) / st[j][FixSPHJCThermal::RHO_F]; }
+  double kappa(int j) const { return mat[type[j]].kappa; }
+};
+}    // namespace
+
+sphcut::HeatLosses FixHeatFMFS::losses() const
+{
+  return {hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, hconv > 0.0 || emiss > 0.0};
+}
+
+// per particle (conservative no): the physics is sphcut::conduction_particle and heat_rate
 template <int DIM> void FixHeatFMFS::conduction()
 {
-  double **x = atom->x;
   const int *mask = atom->mask;
   const int *type = atom->type;
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
   const Material *mat = pair->materials();
-  const int kernel = pair->kernel();
+  const int kernel = pair->kernel(), nt = atom->ntypes + 1;
+  const sphcut::HeatLosses hl = losses();
   using F = FixSPHJCThermal;
   double p_conv = 0.0, p_rad = 0.0;
   for (int i = 0; i < atom->nlocal; i++) st[i][F::HELD] = 0.0;
-  sphcut::FmfsAccum<DIM> acc;
+  ListedNeighbours nb{nullptr, 0, mask, type, groupbit, atom->x, st, rmass, mass, mat, nullptr};
 
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
@@ -311,61 +349,16 @@ template <int DIM> void FixHeatFMFS::conduction()
     const Material &mi = mat[itype];
     if (mi.cp <= 0.0) continue;
     const double Ti = st[i][F::TEMP_F];
-    const double rhoi = st[i][F::RHO_F];
-    const double massi = rmass ? rmass[i] : mass[itype];
     const int surf = surface ? surface->is_surface(i) : 0;
-    // FMFS only with a full enough kernel support (lambda of the particle's own
-    // renormalisation matrix >= fmfs_lambda) and one conductivity in the support
-    int use_fmfs = scheme == FMFS && !surf && mi.kappa > 0.0;
-    double brook = 0.0;
-    if (use_fmfs) sphcut::fmfs_zero<DIM>(acc);
-
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      if (!(mask[j] & groupbit)) continue;
-      const int jtype = type[j];
-      const double h = pair->smoothing_length(itype, jtype);
-      double dx[3], r2;
-      if (!sphcut::in_support(x[i], x[j], h, dx, r2)) continue;
-      double w, wfac;
-      sphcut::kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
-      const double Tj = st[j][F::TEMP_F];
-      const double vj = (rmass ? rmass[j] : mass[jtype]) / st[j][F::RHO_F];
-      const double kj = mat[jtype].kappa;
-      brook += vj * sphcut::brookshaw_pair_radial(Ti, Tj, mi.kappa, kj, wfac);
-      if (use_fmfs) {
-        if (kj != mi.kappa) {
-          use_fmfs = 0;    // material interface: heat flux form with the harmonic mean
-          continue;
-        }
-        const double r[3] = {-dx[0], -dx[1], -dx[2]};
-        const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
-        sphcut::fmfs_add<DIM>(acc, r, g, vj, Tj - Ti);
-      }
-    }
-
+    nb.jlist = list->firstneigh[i];
+    nb.n = list->numneigh[i];
+    nb.hrow = &hij[(size_t) itype * nt];
     double rate;    // rho cp dT/dt
-    double lap;
-    if (use_fmfs && sphcut::surface_lambda<DIM>(acc.B) < fmfs_lambda) use_fmfs = 0;
-    if (use_fmfs && sphcut::fmfs_laplacian<DIM>(acc, lap)) {
-      rate = mi.kappa * lap;
-      n_fmfs++;
-    } else {
-      if (use_fmfs) n_fallback++;
-      rate = brook;
-      n_brookshaw++;
-    }
-    double dT = rate / (rhoi * mi.cp);
-
-    if (surf && (hconv > 0.0 || emiss > 0.0)) {
-      double qc, qr;
-      sphcut::surface_losses(DIM, massi / rhoi, Ti, hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, qc, qr);
-      p_conv += qc;
-      p_rad += qr;
-      dT -= (qc + qr) / (massi * mi.cp);
-    }
-    st[i][F::HELD] = dT;
+    const int s = sphcut::conduction_particle<DIM>(nb, kernel, atom->x[i], Ti, mi.kappa,
+                                                   scheme == FMFS && !surf && mi.kappa > 0.0, fmfs_lambda, rate);
+    sphcut::heat_count(s, n_fmfs, n_brookshaw, n_fallback);
+    st[i][F::HELD] = sphcut::heat_rate(DIM, hl, surf, rate, st[i][F::RHO_F], rmass ? rmass[i] : mass[itype], mi.cp,
+                                       Ti, p_conv, p_rad);
   }
   held_conv = p_conv;
   held_rad = p_rad;
@@ -442,7 +435,98 @@ int FixHeatFMFS::gather_support(int i, bool half)
   return n;
 }
 
+namespace {
+// the neighbours of one particle gathered by gather_support, as the passes of the conservative
+// form (sphcut::heat_scheme, heat_exchange) read them: gathered, so cheap to walk twice
+struct GatheredSupport {
+  static constexpr bool TWO_WALKS = true;
+  int n;
+  const int *j, *t;                      // index and type
+  const double *dx, *wfac, *ir2;         // x_i - x_j (3 each), the kernel factor, 1/r^2
+  const sphcut::ThermalPair *tpi;        // the row of i's type
+  const double *prow;                    // x, V, T per particle
+  double *const *fwts;                   // scheme flag and FMFS weights per particle
+  const Material *mat;
+  const int *type;
+  int size() const { return n; }
+  bool pair(int k, sphcut::HeatPair &p) const
+  {
+    p.j = j[k];
+    p.tp = tpi + t[k];
+    for (int a = 0; a < 3; a++) p.dx[a] = dx[3 * k + a];
+    p.wfac = wfac[k];
+    p.ir2 = ir2[k];
+    return true;
+  }
+  double volume(int jj) const { return prow[5 * jj + 3]; }
+  double temp(int jj) const { return prow[5 * jj + 4]; }
+  const double *weights(int jj) const { return fwts[jj]; }
+  double kappa(int jj) const { return mat[type[jj]].kappa; }
+};
+}    // namespace
+
+// the neighbours of particle i within the support (gather_support(i, half)) as a view
+template <class View> View FixHeatFMFS::support_view(int i, bool half)
+{
+  const int n = gather_support(i, half);
+  return View{n, nb_j.data(), nb_t.data(), nb_dx.data(), nb_wfac.data(), nb_ir2.data(),
+              tpair.data() + atom->type[i] * (atom->ntypes + 1), prow.data(), fwts, pair->materials(), atom->type};
+}
+
 template <int DIM> void FixHeatFMFS::conduction_conservative()
+{
+  if (atom->nmax > nmax_fwts) {
+    nmax_fwts = atom->nmax;
+    memory->destroy(fwts);
+    memory->create(fwts, nmax_fwts, 1 + 3 * 3 + 3, "heat/fmfs:fwts");
+  }
+  gather_rows();
+  const int nall = atom->nlocal + atom->nghost;
+  for (int i = 0; i < nall; i++) fwts[i][0] = 0.0;
+  scheme_pass<DIM>();
+  sphcut::forward_comm(comm, this);
+  exchange_pass<DIM>();
+}
+
+// 1. one walk over the neighbours of each particle: the surface indicator (fused: into the
+// compute's values) and the FMFS moments, then the scheme and the FMFS pair weights
+template <int DIM> void FixHeatFMFS::scheme_pass()
+{
+  const int *mask = atom->mask;
+  const int *type = atom->type;
+  const Material *mat = pair->materials();
+  using CS = ComputeSurfaceLambda;
+  const bool fuse = fuse_surface;
+  double **so = fuse ? surface->values() : nullptr;
+  const double thr = surface ? surface->threshold : 0.0;
+  if (fuse)
+    for (int i = 0; i < atom->nlocal; i++)
+      for (int k = 0; k < CS::NCOLS; k++) so[i][k] = 0.0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (!(mask[i] & groupbit)) continue;
+    const Material &mi = mat[type[i]];
+    const int conducts = mi.cp > 0.0;
+    // FMFS candidate: with the fused compute the surface flag and lambda come after the walk
+    const int cand = conducts && scheme == FMFS && mi.kappa > 0.0 && !(!fuse && surface && surface->is_surface(i));
+    sphcut::HeatSurface sv;
+    // (without the fused compute a particle that cannot take FMFS needs no walk)
+    const int s = sphcut::heat_scheme<DIM>(fuse || cand ? support_view<GatheredSupport>(i, false) : GatheredSupport{},
+                                           conducts, cand, fuse, thr, fmfs_lambda, sv, &fwts[i][1]);
+    if (fuse) {
+      so[i][CS::LAMBDA] = sv.lambda;
+      so[i][CS::FLAG] = sv.flag;
+      for (int a = 0; a < DIM; a++) so[i][CS::NX + a] = sv.n[a];
+    }
+    if (s == sphcut::HEAT_FMFS) fwts[i][0] = 1.0;
+    sphcut::heat_count(s, n_fmfs, n_brookshaw, n_fallback);
+  }
+}
+
+// 2. the pairwise exchange (sphcut::heat_exchange): the conductance c_ij is symmetric, so a pair
+// of two local particles is computed once and moves heat both ways; then the temperature rates
+// and the surface losses
+template <int DIM> void FixHeatFMFS::exchange_pass()
 {
   const int *mask = atom->mask;
   const int *type = atom->type;
@@ -450,88 +534,9 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   const double *mass = atom->mass;
   double **st = fix->state;
   const Material *mat = pair->materials();
-  const int nt = atom->ntypes + 1;
-  using F = FixSPHJCThermal;
-  using CS = ComputeSurfaceLambda;
-  if (atom->nmax > nmax_fwts) {
-    nmax_fwts = atom->nmax;
-    memory->destroy(fwts);
-    memory->create(fwts, nmax_fwts, 1 + 3 * 3 + 3, "heat/fmfs:fwts");
-  }
-  gather_rows();
   const double *pk = prow.data();
-  const int nall = atom->nlocal + atom->nghost;
-  for (int i = 0; i < nall; i++) fwts[i][0] = 0.0;
-
-  // 1. one walk over the neighbours of each particle: the surface indicator (fused: into the
-  // compute's values) and the FMFS moments, then the scheme and the FMFS pair weights
-  const bool fuse = fuse_surface;
-  double **so = fuse ? surface->values() : nullptr;
-  const double thr = surface ? surface->threshold : 0.0;
-  if (fuse)
-    for (int i = 0; i < atom->nlocal; i++)
-      for (int k = 0; k < CS::NCOLS; k++) so[i][k] = 0.0;
-  sphcut::SupportMoments<DIM> m;
-  sphcut::FmfsAccum<DIM> acc;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    if (!(mask[i] & groupbit)) continue;
-    const Material &mi = mat[type[i]];
-    const int conducts = mi.cp > 0.0;
-    // FMFS candidate: with the fused compute the surface flag and lambda come after the walk
-    int cand = conducts && scheme == FMFS && mi.kappa > 0.0 && !(!fuse && surface && surface->is_surface(i));
-    if (!fuse && !cand) {
-      if (conducts) n_brookshaw++;
-      continue;
-    }
-    const int n = gather_support(i, false);
-    const sphcut::ThermalPair *tpi = tpair.data() + type[i] * nt;
-    for (int k = 0; k < n && cand; k++)
-      if (!tpi[nb_t[k]].same_kappa) cand = 0;    // material interface: Brookshaw
-    double lam = 0.0;
-    sphcut::support_zero<DIM>(m, cand);
-    if (fuse || cand) {
-      for (int k = 0; k < n; k++) {
-        const double *d = &nb_dx[3 * k];
-        const double r[3] = {-d[0], -d[1], -d[2]};    // x_j - x_i
-        sphcut::support_add_surface<DIM>(m, r, -nb_wfac[k] * pk[5 * nb_j[k] + 3]);
-      }
-      double B[DIM][DIM];
-      sphcut::support_matrix<DIM>(m, B);
-      lam = sphcut::surface_lambda<DIM>(B);
-    }
-    if (fuse) {
-      double n_[3] = {0.0, 0.0, 0.0};
-      if (lam < thr) {
-        double B[DIM][DIM];
-        sphcut::support_matrix<DIM>(m, B);
-        sphcut::surface_normal<DIM>(B, m.gs, n_);
-        cand = 0;
-      }
-      so[i][CS::LAMBDA] = lam;
-      so[i][CS::FLAG] = lam < thr ? 1.0 : 0.0;
-      for (int a = 0; a < DIM; a++) so[i][CS::NX + a] = n_[a];
-    }
-    if (!conducts) continue;
-    // FMFS only with a full enough kernel support (lambda >= fmfs_lambda)
-    if (cand && lam >= fmfs_lambda) {
-      for (int k = 0; k < n; k++) {
-        const double *d = &nb_dx[3 * k];
-        const double r[3] = {-d[0], -d[1], -d[2]};
-        sphcut::support_add_fmfs<DIM>(m, r, -nb_wfac[k] * pk[5 * nb_j[k] + 3], nb_ir2[k]);
-      }
-      sphcut::support_to_fmfs<DIM>(m, acc);
-      if (sphcut::fmfs_weights<DIM>(acc, &fwts[i][1])) fwts[i][0] = 1.0;
-      else n_fallback++;
-    }
-    if (fwts[i][0] > 0.0) n_fmfs++;
-    else n_brookshaw++;
-  }
-  sphcut::forward_comm(comm, this);
-
-  // 2. the pairwise exchange with the mean of the two sides' weights (Brookshaw's where the mean
-  // is anti-diffusive, sphcut::conductance_pair): the conductance c_ij is symmetric, so a pair
-  // of two local particles is computed once and moves heat both ways
+  const sphcut::HeatLosses hl = losses();
+  using F = FixSPHJCThermal;
   const int nlocal = atom->nlocal;
   if (rate_sum.size() < (size_t) nlocal) rate_sum.resize(atom->nmax);
   double *rate = rate_sum.data();    // rho cp dT/dt
@@ -541,56 +546,26 @@ template <int DIM> void FixHeatFMFS::conduction_conservative()
   listed.assign(nlocal, 0);
   for (int ii = 0; ii < list->inum; ii++)
     if (mask[list->ilist[ii]] & groupbit) listed[list->ilist[ii]] = 1;
+  auto to_j = [rate, nlocal](int j, double v) {
+    if (j < nlocal) rate[j] += v;
+  };
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
-    const int itype = type[i];
-    const double ki = mat[itype].kappa;
-    const double *xi = pk + 5 * i;
-    const double Ti = xi[4], Vi = xi[3];
-    const int fi = fwts[i][0] > 0.0;
-    const double *wi = &fwts[i][1];
-    const sphcut::ThermalPair *tpi = tpair.data() + itype * nt;
-    const int n = gather_support(i, true);
-    double ri = 0.0;
-    for (int k = 0; k < n; k++) {
-      const int j = nb_j[k];
-      const double *dx = &nb_dx[3 * k];
-      const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
-      const double *wj = fwts[j];
-      const double brook = tpi[nb_t[k]].brook;
-      const double ai = fi ? ki * sphcut::fmfs_pair_weight_radial<DIM>(wi, dx, nb_ir2[k]) : brook;
-      const double aj =
-          wj[0] > 0.0 ? mat[nb_t[k]].kappa * sphcut::fmfs_pair_weight_radial<DIM>(wj + 1, mdx, nb_ir2[k]) : brook;
-      const double c = nb_wfac[k] * sphcut::conductance_pair(ai, aj, brook), dT = pk[5 * j + 4] - Ti;
-      ri += pk[5 * j + 3] * c * dT;
-      if (j < nlocal) rate[j] -= Vi * c * dT;
-    }
-    rate[i] += ri;
+    rate[i] += sphcut::heat_exchange<DIM>(support_view<GatheredSupport>(i, true), mat[type[i]].kappa, pk[5 * i + 4],
+                                          pk[5 * i + 3], fwts[i], to_j);
   }
 
-  // the temperature rates and the surface losses
   double p_conv = 0.0, p_rad = 0.0;
   for (int i = 0; i < nlocal; i++) st[i][F::HELD] = 0.0;
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     if (!(mask[i] & groupbit)) continue;
-    const int itype = type[i];
-    const Material &mi = mat[itype];
+    const Material &mi = mat[type[i]];
     if (mi.cp <= 0.0) continue;
-    const double Ti = pk[5 * i + 4];
-    const double rhoi = st[i][F::RHO_F];
-    const double massi = rmass ? rmass[i] : mass[itype];
-    double dT = rate[i] / (rhoi * mi.cp);
     const int surf = surface ? surface->is_surface(i) : 0;
-    if (surf && (hconv > 0.0 || emiss > 0.0)) {
-      double qc, qr;
-      sphcut::surface_losses(DIM, massi / rhoi, Ti, hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, qc, qr);
-      p_conv += qc;
-      p_rad += qr;
-      dT -= (qc + qr) / (massi * mi.cp);
-    }
-    st[i][F::HELD] = dT;
+    st[i][F::HELD] = sphcut::heat_rate(DIM, hl, surf, rate[i], st[i][F::RHO_F], rmass ? rmass[i] : mass[type[i]], mi.cp,
+                                       pk[5 * i + 4], p_conv, p_rad);
   }
   held_conv = p_conv;
   held_rad = p_rad;

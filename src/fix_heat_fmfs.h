@@ -86,15 +86,20 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   void check_timestep();
   template <int DIM> void conduction();
   template <int DIM> void conduction_conservative();
+  template <int DIM> void scheme_pass();
+  template <int DIM> void exchange_pass();
+  sphcut::HeatLosses losses() const;    // convection and radiation as sphcut::heat_rate takes them
   // the surface compute's values are computed in this fix's first pass (this evaluation)
   bool fuse_surface;
   std::vector<sphcut::ThermalPair> tpair;    // [itype * (ntypes+1) + jtype]
+  std::vector<double> hij;                   // smoothing length of a type pair, [itype * (ntypes+1) + jtype]
   std::vector<double> prow;                  // per atom (local + ghost): x, V = m/rho, T
   // the neighbours within the support of the particle being evaluated (see gather_support)
   std::vector<int> nb_j, nb_t;
   std::vector<double> nb_dx, nb_r2, nb_wfac, nb_ir2;
   void gather_rows();
   int gather_support(int i, bool half);
+  template <class View> View support_view(int i, bool half);
   std::vector<double> rate_sum;              // pass 2: rho cp dT/dt of the local particles
   std::vector<char> listed;                  // pass 2: local particle has a neighbour list of its own
   virtual bool begin_evaluation();

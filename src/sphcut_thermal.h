@@ -808,6 +808,225 @@ template <int DIM> SPHCUT_INLINE double fmfs_pair_weight_radial(const double *wt
   return zd - 2.0 * q * ir2;
 }
 
+// ---------------------------------------------------------------------------
+// fix heat/fmfs one particle at a time (host and device).  The drivers (FixHeatFMFS,
+// FixHeatFMFSKokkos, bench/thermal) loop over the particles, gather what a particle's
+// neighbours carry into a small view Nb of their own and store what these functions return;
+// the neighbour loops and the arithmetic are here, once.  What a pair gives the other particle
+// goes through an add-sink (as sphcut_pair.h): add(j, value); a driver that visits every pair
+// from both sides passes NoAdd.
+
+// the scheme a particle's evaluation took (the counters of fix heat/fmfs: a fallback counts as
+// Brookshaw too)
+enum HeatScheme { HEAT_NONE = -1, HEAT_BROOKSHAW = 0, HEAT_FMFS = 1, HEAT_FALLBACK = 2 };
+
+// the counters of fix heat/fmfs for the scheme s a particle took
+template <class T> SPHCUT_INLINE void heat_count(int s, T &n_fmfs, T &n_brookshaw, T &n_fallback)
+{
+  if (s == HEAT_FMFS) n_fmfs += 1;
+  else if (s != HEAT_NONE) {
+    n_brookshaw += 1;
+    if (s == HEAT_FALLBACK) n_fallback += 1;
+  }
+}
+
+// the sink of a driver that computes each pair from both sides
+struct NoAdd {
+  SPHCUT_INLINE void operator()(int, double) const {}
+};
+
+// the held temperature rate of a particle: rho cp dT/dt = rate over rho cp, less, on a free
+// surface (surf) with losses, the heat it loses by convection and radiation (surface_losses of
+// its volume m/rho), which are added to p_conv and p_rad
+struct HeatLosses {
+  double hconv, tconv;        // convection coefficient and ambient temperature
+  double emiss_sigma, trad;   // emissivity times Stefan-Boltzmann, ambient temperature
+  int on;                     // hconv > 0 or emissivity > 0
+};
+
+SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double rate, double rho, double mass,
+                               double cp, double T, double &p_conv, double &p_rad)
+{
+  double dT = rate / (rho * cp);
+  if (surf && hl.on) {
+    double qc, qr;
+    surface_losses(dim, mass / rho, T, hl.hconv, hl.tconv, hl.emiss_sigma, hl.trad, qc, qr);
+    p_conv += qc;
+    p_rad += qr;
+    dT -= (qc + qr) / (mass * cp);
+  }
+  return dT;
+}
+
+/* per particle (conservative no, the form of seed 003): rate = rho cp dT/dt of particle i
+   (position xi, predicted temperature Ti, conductivity ki) by the FMFS Laplacian k_i lap T_i
+   where try_fmfs (scheme fmfs, not on the surface, k_i > 0), one conductivity spans the
+   support, lambda of the particle's own B >= fmfs_lambda and the system is regular; Brookshaw
+   with the harmonic mean of the conductivities (seed 000 eq. 6) otherwise.  The view nb of the
+   particle's listed neighbours:
+     int size()                the count of listed neighbours
+     int index(int k)          the k-th neighbour's index j, -1 where it is not of the group
+     void pos(int j, double *) its position
+     double h(int j)           the smoothing length of the pair i-j
+     double temp(int j), volume(int j), kappa(int j): predicted T, m/rho and conductivity
+   Returns HEAT_FMFS, HEAT_BROOKSHAW or HEAT_FALLBACK (FMFS singular: Brookshaw).            */
+template <int DIM, class Nb>
+SPHCUT_INLINE int conduction_particle(const Nb &nb, int kernel, const double *xi, double Ti, double ki,
+                                      int try_fmfs, double fmfs_lambda, double &rate)
+{
+  int use_fmfs = try_fmfs;
+  double brook = 0.0;
+  FmfsAccum<DIM> acc;
+  if (use_fmfs) fmfs_zero<DIM>(acc);
+  const int n = nb.size();
+  for (int k = 0; k < n; k++) {
+    const int j = nb.index(k);
+    if (j < 0) continue;
+    const double h = nb.h(j);
+    double xj[3], dx[3], r2;
+    nb.pos(j, xj);
+    if (!in_support(xi, xj, h, dx, r2)) continue;
+    double w, wfac;
+    kernel_w_gradfac(kernel, DIM, sqrt(r2), h, w, wfac);
+    const double Tj = nb.temp(j), vj = nb.volume(j), kj = nb.kappa(j);
+    brook += vj * brookshaw_pair_radial(Ti, Tj, ki, kj, wfac);
+    if (use_fmfs) {
+      if (kj != ki) {
+        use_fmfs = 0;    // material interface: heat flux form with the harmonic mean
+        continue;
+      }
+      const double r[3] = {-dx[0], -dx[1], -dx[2]};
+      const double g[3] = {wfac * dx[0], wfac * dx[1], wfac * dx[2]};
+      fmfs_add<DIM>(acc, r, g, vj, Tj - Ti);
+    }
+  }
+  double lap;
+  if (use_fmfs && surface_lambda<DIM>(acc.B) < fmfs_lambda) use_fmfs = 0;
+  if (use_fmfs && fmfs_laplacian<DIM>(acc, lap)) {
+    rate = ki * lap;
+    return HEAT_FMFS;
+  }
+  rate = brook;
+  return use_fmfs ? HEAT_FALLBACK : HEAT_BROOKSHAW;
+}
+
+/* the conservative form (default): two passes over the pairs within the support.  Its view nb
+   of one particle's neighbours:
+     int size()                    the count of neighbours to visit
+     bool pair(int k, HeatPair &)  the k-th: false where it is not of the group or outside the
+                                   support; else j, its ThermalPair with i, dx = x_i - x_j,
+                                   wfac (grad_i W_ij = wfac dx) and ir2 = 1/|dx|^2
+     double volume(int j)          m/rho (predicted density)
+   and, for the exchange,
+     double temp(int j)            predicted temperature
+     const double *weights(int j)  its scheme flag (> 0: FMFS) and FMFS weights (fmfs_weights)
+     double kappa(int j)           its conductivity
+   A view whose pairs are cheap to visit twice (gathered beforehand: the CPU fix) sets
+   static constexpr bool TWO_WALKS = true: the FMFS moments are then summed in a second walk,
+   only for a particle that turns out to take FMFS; otherwise (on the fly: /kk) in the one walk. */
+struct HeatPair {
+  int j;
+  const ThermalPair *tp;
+  double dx[3];
+  double wfac, ir2;
+};
+
+// the surface indicator of a particle (compute surface/lambda's columns LAMBDA, FLAG, NX..NZ)
+struct HeatSurface {
+  double lambda, flag;
+  double n[3];
+};
+
+/* first pass, one particle: the surface indicator and the scheme.  One walk over the neighbours
+   sums the surface moments (with fuse into surf for compute surface/lambda: lambda, flag
+   lambda < thr and the normal; a flagged particle takes Brookshaw) and the FMFS moments of a
+   candidate (cand: conducts, scheme fmfs, k > 0, not flagged by the compute when not fused; a
+   material interface in the support makes it Brookshaw).  With lambda >= fmfs_lambda the FMFS
+   pair weights (DIM*DIM + DIM, fmfs_weights) go to wts.  surf is zero without fuse.  Returns HEAT_NONE for a particle that
+   does not conduct (conducts = 0: the surface indicator only), else the scheme.             */
+template <int DIM, class Nb>
+SPHCUT_INLINE int heat_scheme(const Nb &nb, int conducts, int cand, int fuse, double thr, double fmfs_lambda,
+                              HeatSurface &surf, double *wts)
+{
+  surf.lambda = surf.flag = surf.n[0] = surf.n[1] = surf.n[2] = 0.0;
+  if (!fuse && !cand) return conducts ? HEAT_BROOKSHAW : HEAT_NONE;    // nothing to walk for
+  SupportMoments<DIM> m;
+  support_zero<DIM>(m, cand);
+  const int n = nb.size();
+  for (int k = 0; k < n; k++) {
+    HeatPair p;
+    if (!nb.pair(k, p)) continue;
+    const double r[3] = {-p.dx[0], -p.dx[1], -p.dx[2]};    // x_j - x_i
+    const double s = -p.wfac * nb.volume(p.j);
+    support_add_surface<DIM>(m, r, s);
+    if (cand) {
+      if (!p.tp->same_kappa) cand = 0;    // material interface: Brookshaw
+      else if (!Nb::TWO_WALKS) support_add_fmfs<DIM>(m, r, s, p.ir2);
+    }
+  }
+  double lam = 0.0;
+  if (fuse) {
+    lam = support_surface<DIM>(m, thr, surf.n);
+    surf.lambda = lam;
+    surf.flag = lam < thr ? 1.0 : 0.0;
+    if (lam < thr) cand = 0;
+  } else if (cand) {
+    double B[DIM][DIM];
+    support_matrix<DIM>(m, B);
+    lam = surface_lambda<DIM>(B);
+  }
+  if (!conducts) return HEAT_NONE;
+  // FMFS only with a full enough kernel support (lambda >= fmfs_lambda)
+  if (!cand || !(lam >= fmfs_lambda)) return HEAT_BROOKSHAW;
+  if (Nb::TWO_WALKS)
+    for (int k = 0; k < n; k++) {
+      HeatPair p;
+      if (!nb.pair(k, p)) continue;
+      const double r[3] = {-p.dx[0], -p.dx[1], -p.dx[2]};
+      support_add_fmfs<DIM>(m, r, -p.wfac * nb.volume(p.j), p.ir2);
+    }
+  FmfsAccum<DIM> acc;
+  support_to_fmfs<DIM>(m, acc);
+  return fmfs_weights<DIM>(acc, wts) ? HEAT_FMFS : HEAT_FALLBACK;
+}
+
+// the two sides' conductances over wfac of the pair i-j (dx = x_i - x_j, ir2 = 1/|dx|^2):
+// s_ij = k_i w_ij / wfac from the FMFS weights wi of particle i, or Brookshaw's (tp.brook) where
+// wi is nullptr; s_ji likewise from j's side
+template <int DIM>
+SPHCUT_INLINE void exchange_sides(const ThermalPair &tp, const double *dx, double ir2, double ki, const double *wi,
+                                  double kj, const double *wj, double &s_ij, double &s_ji)
+{
+  const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
+  s_ij = wi ? ki * fmfs_pair_weight_radial<DIM>(wi, dx, ir2) : tp.brook;
+  s_ji = wj ? kj * fmfs_pair_weight_radial<DIM>(wj, mdx, ir2) : tp.brook;
+}
+
+/* second pass, one particle i (conductivity ki, predicted temperature Ti, volume Vi, scheme
+   flag and FMFS weights wi as weights(i) of the view): the pairwise exchange with the
+   conductance c_ij = wfac conductance_pair (the mean of the two sides, Brookshaw's where that
+   is anti-diffusive).  Returns i's rho cp dT/dt from these pairs, sum_j V_j c_ij (T_j - T_i);
+   what each pair gives j, -V_i c_ij (T_j - T_i), goes to add(j, value).                      */
+template <int DIM, class Nb, class Add>
+SPHCUT_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, double Vi, const double *wi, Add &&add)
+{
+  const double *fi = wi[0] > 0.0 ? wi + 1 : nullptr;
+  double ri = 0.0;
+  const int n = nb.size();
+  for (int k = 0; k < n; k++) {
+    HeatPair p;
+    if (!nb.pair(k, p)) continue;
+    const double *wj = nb.weights(p.j);
+    const double *fj = wj[0] > 0.0 ? wj + 1 : nullptr;
+    double s_ij, s_ji;
+    exchange_sides<DIM>(*p.tp, p.dx, p.ir2, ki, fi, fj ? nb.kappa(p.j) : 0.0, fj, s_ij, s_ji);
+    const double c = p.wfac * conductance_pair(s_ij, s_ji, p.tp->brook), dT = nb.temp(p.j) - Ti;
+    ri += nb.volume(p.j) * c * dT;
+    add(p.j, -(Vi * c * dT));
+  }
+  return ri;
+}
+
 }    // namespace sphcut
 
 #endif

@@ -14,6 +14,27 @@
 #include <cmath>
 using namespace sphcut;
 constexpr int DIM = 2;
+
+// the cell-list neighbours of particle i, the view sphcut::heat_scheme reads
+struct CellNeighbours {
+  static constexpr bool TWO_WALKS = false;
+  const std::vector<int> &nb;
+  const std::vector<double> &x;
+  const std::vector<int> &ty;
+  const ThermalPair (&tp)[3][3];
+  int i;
+  double V;
+  int size() const { return (int) nb.size(); }
+  bool pair(int k, HeatPair &p) const
+  {
+    double r2;
+    p.j = nb[k];
+    p.tp = &tp[ty[i]][ty[p.j]];
+    return thermal_support(*p.tp, KERNEL_CUBIC, &x[3 * i], &x[3 * p.j], p.dx, r2, p.wfac, p.ir2);
+  }
+  double volume(int) const { return V; }
+};
+
 int main(int argc, char **argv)
 {
   FILE *f = fopen(argv[1], "r");
@@ -53,24 +74,10 @@ int main(int argc, char **argv)
   std::vector<int> fm(N, 0);
   int nf = 0, ns = 0;
   for (int i = 0; i < N; i++) {
-    SupportMoments<DIM> m;
-    support_zero<DIM>(m, true);
-    int cand = 1;
-    for (int j : nb[i]) {
-      double r[3], r2, wfac, ir2;
-      if (!thermal_support(tp[ty[i]][ty[j]], KERNEL_CUBIC, &x[3 * j], &x[3 * i], r, r2, wfac, ir2)) continue;
-      if (!tp[ty[i]][ty[j]].same_kappa) cand = 0;
-      support_add_surface<DIM>(m, r, -wfac * V);
-      support_add_fmfs<DIM>(m, r, -wfac * V, ir2);
-    }
-    double B[DIM][DIM];
-    support_matrix<DIM>(m, B);
-    const double lam = surface_lambda<DIM>(B);
-    if (lam < 0.75) { ns++; continue; }
-    if (!cand) continue;
-    FmfsAccum<DIM> acc;
-    support_to_fmfs<DIM>(m, acc);
-    if (fmfs_weights<DIM>(acc, &wts[i * NW])) { fm[i] = 1; nf++; }
+    HeatSurface sv;
+    const int s = heat_scheme<DIM>(CellNeighbours{nb[i], x, ty, tp, i, V}, 1, 1, 1, 0.75, 0.75, sv, &wts[i * NW]);
+    if (sv.flag > 0.0) ns++;
+    if (s == HEAT_FMFS) { fm[i] = 1; nf++; }
   }
   std::vector<int> win;
   std::vector<int> wix(N, -1);
@@ -88,9 +95,9 @@ int main(int argc, char **argv)
       double d[3], r2, wfac, ir2;
       const ThermalPair &T = tp[ty[i]][ty[j]];
       if (!thermal_support(T, KERNEL_CUBIC, &x[3 * i], &x[3 * j], d, r2, wfac, ir2)) continue;
-      const double md[3] = {-d[0], -d[1], -d[2]};
-      const double ai = fm[i] ? kap[ty[i]] * fmfs_pair_weight_radial<DIM>(&wts[i * NW], d, ir2) : T.brook;
-      const double aj = fm[j] ? kap[ty[j]] * fmfs_pair_weight_radial<DIM>(&wts[j * NW], md, ir2) : T.brook;
+      double ai, aj;
+      exchange_sides<DIM>(T, d, ir2, kap[ty[i]], fm[i] ? &wts[i * NW] : nullptr, kap[ty[j]], fm[j] ? &wts[j * NW] : nullptr,
+                          ai, aj);
       double c = wfac * conductance_mean(ai, aj);
       const double cb = wfac * T.brook;
       if (i < j) {

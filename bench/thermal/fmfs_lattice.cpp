@@ -1,5 +1,5 @@
 // bench/thermal: the operator of the conservative exchange of fix heat/fmfs on a frozen lattice
-// (FixHeatFMFS::conduction_conservative with the sphcut_thermal.h functions: one material,
+// (sphcut_thermal.h heat_scheme and exchange_sides, as fix heat/fmfs calls them: one material,
 // k = rho cp = 1, dx = 1, insulated, surface compute threshold 0.75, fmfs_lambda 0.75, cubic
 // kernel).  Prints the pair statistics (negative conductances c_ij, c_ij over Brookshaw's) and
 // writes the symmetric operator S (dT/dt = S T) for operator_eig.py.
@@ -17,6 +17,25 @@
 #include <random>
 #include <vector>
 using namespace sphcut;
+
+// every other particle of the set as the neighbours of particle i (O(N^2): a few hundred
+// particles), the view sphcut::heat_scheme reads
+struct AllPairs {
+  static constexpr bool TWO_WALKS = false;
+  const std::vector<double> &x;
+  const ThermalPair &tp;
+  int i;
+  double V;
+  int size() const { return (int) x.size() / 3; }
+  bool pair(int k, HeatPair &p) const
+  {
+    double r2;
+    p.j = k;
+    p.tp = &tp;
+    return thermal_support(tp, KERNEL_CUBIC, &x[3 * i], &x[3 * k], p.dx, r2, p.wfac, p.ir2);
+  }
+  double volume(int) const { return V; }
+};
 
 template <int DIM> int run(int n, double hdx, double jit, unsigned seed, double pd, int mode, const char *out)
 {
@@ -51,22 +70,11 @@ template <int DIM> int run(int n, double hdx, double jit, unsigned seed, double 
   std::vector<double> lamv(N, 0.0);
   int nf = 0, ns = 0;
   for (int i = 0; i < N; i++) {
-    SupportMoments<DIM> m;
-    support_zero<DIM>(m, true);
-    for (int j = 0; j < N; j++) {
-      double r[3], r2, wfac, ir2;
-      if (!thermal_support(tp, KERNEL_CUBIC, &x[3 * j], &x[3 * i], r, r2, wfac, ir2)) continue;
-      support_add_surface<DIM>(m, r, -wfac * V);
-      support_add_fmfs<DIM>(m, r, -wfac * V, ir2);
-    }
-    double B[DIM][DIM];
-    support_matrix<DIM>(m, B);
-    const double lam = surface_lambda<DIM>(B);
-    lamv[i] = lam;
-    if (lam < 0.75) { surf[i] = 1; ns++; continue; }
-    FmfsAccum<DIM> acc;
-    support_to_fmfs<DIM>(m, acc);
-    if (fmfs_weights<DIM>(acc, &wts[i * (DIM * DIM + DIM)])) { fm[i] = 1; nf++; }
+    HeatSurface sv;
+    const int s = heat_scheme<DIM>(AllPairs{x, tp, i, V}, 1, 1, 1, 0.75, 0.75, sv, &wts[i * (DIM * DIM + DIM)]);
+    lamv[i] = sv.lambda;
+    if (sv.flag > 0.0) { surf[i] = 1; ns++; }
+    if (s == HEAT_FMFS) { fm[i] = 1; nf++; }
   }
   std::vector<double> A((size_t) N * N, 0.0);
   long npair = 0, nneg = 0, nff = 0, nnegff = 0;
@@ -75,9 +83,9 @@ template <int DIM> int run(int n, double hdx, double jit, unsigned seed, double 
     for (int j = i + 1; j < N; j++) {
       double dx[3], r2, wfac, ir2;
       if (!thermal_support(tp, KERNEL_CUBIC, &x[3 * i], &x[3 * j], dx, r2, wfac, ir2)) continue;
-      const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
-      const double ai = fm[i] ? kappa * fmfs_pair_weight_radial<DIM>(&wts[i * (DIM * DIM + DIM)], dx, ir2) : tp.brook;
-      const double aj = fm[j] ? kappa * fmfs_pair_weight_radial<DIM>(&wts[j * (DIM * DIM + DIM)], mdx, ir2) : tp.brook;
+      double ai, aj;
+      exchange_sides<DIM>(tp, dx, ir2, kappa, fm[i] ? &wts[i * (DIM * DIM + DIM)] : nullptr, kappa,
+                          fm[j] ? &wts[j * (DIM * DIM + DIM)] : nullptr, ai, aj);
       double c = wfac * conductance_mean(ai, aj);
       const double cb = wfac * tp.brook;
       npair++;

@@ -10,6 +10,28 @@
 #include "sphcut_kernels.h"
 using namespace sphcut;
 struct Sink { double *a; __host__ __device__ void operator()(int k, double v) const { a[k] += v; } };
+// a neighbour view of the heat functions (sphcut_thermal.h): one neighbour, read from memory
+struct HeatView {
+  static constexpr bool TWO_WALKS = false;
+  const double *s;
+  const ThermalPair *tp;
+  __host__ __device__ int size() const { return 1; }
+  __host__ __device__ int index(int) const { return 0; }
+  __host__ __device__ void pos(int, double *xj) const { for (int a = 0; a < 3; a++) xj[a] = s[10 + a]; }
+  __host__ __device__ double h(int) const { return s[17]; }
+  __host__ __device__ bool pair(int, HeatPair &p) const
+  {
+    const double xi[3] = {s[13], s[14], s[15]}, xj[3] = {s[10], s[11], s[12]};
+    double r2;
+    p.j = 0;
+    p.tp = tp;
+    return thermal_support(*tp, 0, xi, xj, p.dx, r2, p.wfac, p.ir2);
+  }
+  __host__ __device__ double volume(int) const { return s[20]; }
+  __host__ __device__ double temp(int) const { return s[21]; }
+  __host__ __device__ const double *weights(int) const { return s + 23; }
+  __host__ __device__ double kappa(int) const { return s[22]; }
+};
 __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, double *out, const PairIn *pin, const ContactIn *cin)
 {
   PairIn in = pin[0];
@@ -47,6 +69,17 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   out[5] = support_surface<3>(m3, 0.75, n) + fmfs_pair_weight_radial<3>(wts, dx, ir2) + tp.same_kappa +
            conductance_pair(s[21], s[22], tp.brook);
   surface_losses(3, 1.0, 300.0, 1.0, 300.0, 1.0, 300.0, qc, qr);
+  // fix heat/fmfs per particle over a view of its neighbours (the /kk fix's calls)
+  const HeatView hv{s, &tp};
+  HeatSurface hs;
+  double rate, pc = 0.0, pr = 0.0, c[3] = {0.0, 0.0, 0.0};
+  const int sch = heat_scheme<3>(hv, 1, 1, 1, 0.75, 0.75, hs, wts) + heat_scheme<2>(hv, 1, 1, 0, 0.75, 0.75, hs, wts) +
+                  conduction_particle<3>(hv, 0, r, 300.0, 1.0, 1, 0.75, rate) +
+                  conduction_particle<2>(hv, 1, r, 300.0, 1.0, 1, 0.75, rate);
+  heat_count(sch, c[0], c[1], c[2]);
+  out[6] = rate + hs.lambda + c[0] + heat_exchange<3>(hv, 1.0, 300.0, 0.0, s + 23, NoAdd{}) +
+           heat_exchange<2>(hv, 1.0, 300.0, 1.0, s + 23, sink) +
+           heat_rate(3, HeatLosses{1.0, 300.0, 1.0, 300.0, 1}, 1, 1.0, 1.0, 1.0, 1.0, 300.0, pc, pr);
   int e = tool_surface(g, x, 1e-4, d, n, q);
   ContactIn ci = cin[0]; ContactOut co;
   ci.friction_memory = e & 1;
