@@ -411,7 +411,7 @@ double PairSPHJCThermal::init_one(int i, int j)
   if (dpij <= 0.0) dpij = hlen[i][j] / 1.2;
   wdp[i][j] = wdp[j][i] = sphcut::kernel_w(kernel_kind, domain->dimension, dpij, hlen[i][j]);
   tpair[i][j] = tpair[j][i] = sphcut::mix_type_pair(mat[i], mat[j], hlen[i][j], wdp[i][j], kernel_kind, domain->dimension);
-  return 2.0 * hlen[i][j];
+  return sphcut::support_radius(hlen[i][j]);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -23,6 +23,22 @@ namespace sphcut {
 
 enum KernelKind { KERNEL_CUBIC = 0, KERNEL_WENDLAND = 1, KERNEL_HYPERBOLIC = 2 };
 
+// the support of every kernel: W = 0 from q = r/h = KERNEL_SUPPORT_Q on
+constexpr double KERNEL_SUPPORT_Q = 2.0;
+
+// the support radius 2h of smoothing length h (the pair cutoff; neighbours beyond it carry nothing)
+SPHCUT_INLINE double support_radius(double h)
+{
+  return KERNEL_SUPPORT_Q * h;
+}
+
+// its square (2h)^2, what the neighbour loops compare r^2 with
+SPHCUT_INLINE double support_radius_sq(double h)
+{
+  const double rc = support_radius(h);
+  return rc * rc;
+}
+
 SPHCUT_INLINE double kernel_sigma(int kind, int dim)
 {
   const double pi = 3.14159265358979323846;
@@ -36,7 +52,7 @@ SPHCUT_INLINE void kernel_shape(int kind, double q, double &f, double &df)
 {
   f = 0.0;
   df = 0.0;
-  if (q >= 2.0) return;
+  if (q >= KERNEL_SUPPORT_Q) return;
   if (kind == KERNEL_WENDLAND) {
     const double t = 1.0 - 0.5 * q;
     const double t3 = t * t * t;
@@ -69,7 +85,7 @@ SPHCUT_INLINE bool in_support(const double *xi, const double *xj, double h, doub
     dx[a] = xi[a] - xj[a];
     r2 += dx[a] * dx[a];
   }
-  return r2 < 4.0 * h * h && r2 != 0.0;
+  return r2 < support_radius_sq(h) && r2 != 0.0;
 }
 
 // W(r, h)

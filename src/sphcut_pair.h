@@ -124,7 +124,7 @@ SPHCUT_INLINE TypePair mix_type_pair(const Material &mi, const Material &mj, dou
 {
   TypePair tp;
   tp.h = h;
-  tp.cutsq = 4.0 * h * h;
+  tp.cutsq = support_radius_sq(h);
   tp.wdp = wdp;
   tp.inv_h = 1.0 / h;
   tp.wnorm = kernel_sigma(kernel, dim) / (dim == 2 ? h * h : h * h * h);

@@ -589,7 +589,7 @@ struct ThermalPair {
 SPHCUT_INLINE ThermalPair thermal_pair(int kind, int dim, double h, double ki, double kj)
 {
   ThermalPair tp;
-  tp.cutsq = 4.0 * h * h;
+  tp.cutsq = support_radius_sq(h);
   tp.inv_h = 1.0 / h;
   tp.wnorm = kernel_sigma(kind, dim) / (dim == 2 ? h * h : h * h * h);
   tp.brook = -2.0 * harmonic_mean(ki, kj);

@@ -53,7 +53,7 @@ int main(int argc, char **argv)
   for (int i = 1; i < 3; i++)
     for (int j = 1; j < 3; j++) tp[i][j] = thermal_pair(KERNEL_CUBIC, DIM, h, kap[i], kap[j]);
   // cell list
-  const double cs = 2 * h;
+  const double cs = support_radius(h);
   double xmin = 1e300, ymin = 1e300, xmax = -1e300, ymax = -1e300;
   for (int i = 0; i < N; i++) { xmin = std::min(xmin, x[3*i]); xmax = std::max(xmax, x[3*i]); ymin = std::min(ymin, x[3*i+1]); ymax = std::max(ymax, x[3*i+1]); }
   const int ncx = int((xmax - xmin) / cs) + 1, ncy = int((ymax - ymin) / cs) + 1;
