@@ -10,14 +10,8 @@
 #include "sphcut_kernels.h"
 #include "sphcut_material.h"
 
-// the per-pair functions are inlined into the neighbour loops whatever the compiler's size
-// heuristics (GCC -O3 called pair_terms out of line in the CPU pair's loop: 15 % slower, measured);
-// host compilers only
-#if defined(__GNUC__) && !defined(__CUDACC__)
-#define SPHCUT_PAIR_INLINE SPHCUT_INLINE __attribute__((always_inline))
-#else
-#define SPHCUT_PAIR_INLINE SPHCUT_INLINE
-#endif
+// the per-pair functions are inlined into the neighbour loops (sphcut_math.h SPHCUT_LOOP_INLINE)
+#define SPHCUT_PAIR_INLINE SPHCUT_LOOP_INLINE
 
 namespace sphcut {
 

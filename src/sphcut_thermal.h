@@ -871,7 +871,7 @@ SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double r
      double temp(int j), volume(int j), kappa(int j): predicted T, m/rho and conductivity
    Returns HEAT_FMFS, HEAT_BROOKSHAW or HEAT_FALLBACK (FMFS singular: Brookshaw).            */
 template <int DIM, class Nb>
-SPHCUT_INLINE int conduction_particle(const Nb &nb, int kernel, const double *xi, double Ti, double ki,
+SPHCUT_LOOP_INLINE int conduction_particle(const Nb &nb, int kernel, const double *xi, double Ti, double ki,
                                       int try_fmfs, double fmfs_lambda, double &rate)
 {
   int use_fmfs = try_fmfs;
@@ -945,7 +945,7 @@ struct HeatSurface {
    pair weights (DIM*DIM + DIM, fmfs_weights) go to wts.  surf is zero without fuse.  Returns HEAT_NONE for a particle that
    does not conduct (conducts = 0: the surface indicator only), else the scheme.             */
 template <int DIM, class Nb>
-SPHCUT_INLINE int heat_scheme(const Nb &nb, int conducts, int cand, int fuse, double thr, double fmfs_lambda,
+SPHCUT_LOOP_INLINE int heat_scheme(const Nb &nb, int conducts, int cand, int fuse, double thr, double fmfs_lambda,
                               HeatSurface &surf, double *wts)
 {
   surf.lambda = surf.flag = surf.n[0] = surf.n[1] = surf.n[2] = 0.0;
@@ -1008,7 +1008,7 @@ SPHCUT_INLINE void exchange_sides(const ThermalPair &tp, const double *dx, doubl
    is anti-diffusive).  Returns i's rho cp dT/dt from these pairs, sum_j V_j c_ij (T_j - T_i);
    what each pair gives j, -V_i c_ij (T_j - T_i), goes to add(j, value).                      */
 template <int DIM, class Nb, class Add>
-SPHCUT_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, double Vi, const double *wi, Add &&add)
+SPHCUT_LOOP_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, double Vi, const double *wi, Add &&add)
 {
   const double *fi = wi[0] > 0.0 ? wi + 1 : nullptr;
   double ri = 0.0;
