@@ -835,14 +835,16 @@ struct NoAdd {
   SPHCUT_INLINE void operator()(int, double) const {}
 };
 
-// the held temperature rate of a particle: rho cp dT/dt = rate over rho cp, less, on a free
-// surface (surf) with losses, the heat it loses by convection and radiation (surface_losses of
-// its volume m/rho), which are added to p_conv and p_rad
+// the surface losses of fix heat/fmfs (keywords convection, radiation)
 struct HeatLosses {
   double hconv, tconv;        // convection coefficient and ambient temperature
   double emiss_sigma, trad;   // emissivity times Stefan-Boltzmann, ambient temperature
   int on;                     // hconv > 0 or emissivity > 0
 };
+
+// the held temperature rate of a particle: rho cp dT/dt = rate over rho cp, less, on a free
+// surface (surf) with losses, the heat it loses by convection and radiation (surface_losses of
+// its volume m/rho), which are added to p_conv and p_rad
 
 SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double rate, double rho, double mass,
                                double cp, double T, double &p_conv, double &p_rad)
@@ -872,7 +874,7 @@ SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double r
    Returns HEAT_FMFS, HEAT_BROOKSHAW or HEAT_FALLBACK (FMFS singular: Brookshaw).            */
 template <int DIM, class Nb>
 SPHCUT_LOOP_INLINE int conduction_particle(const Nb &nb, int kernel, const double *xi, double Ti, double ki,
-                                      int try_fmfs, double fmfs_lambda, double &rate)
+                                           int try_fmfs, double fmfs_lambda, double &rate)
 {
   int use_fmfs = try_fmfs;
   double brook = 0.0;
@@ -946,7 +948,7 @@ struct HeatSurface {
    does not conduct (conducts = 0: the surface indicator only), else the scheme.             */
 template <int DIM, class Nb>
 SPHCUT_LOOP_INLINE int heat_scheme(const Nb &nb, int conducts, int cand, int fuse, double thr, double fmfs_lambda,
-                              HeatSurface &surf, double *wts)
+                                   HeatSurface &surf, double *wts)
 {
   surf.lambda = surf.flag = surf.n[0] = surf.n[1] = surf.n[2] = 0.0;
   if (!fuse && !cand) return conducts ? HEAT_BROOKSHAW : HEAT_NONE;    // nothing to walk for
