@@ -25,7 +25,7 @@
 #include "fix_sph_jc_thermal_kokkos.h"
 #include "neigh_list_kokkos.h"
 #include "neighbor.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 
 #include "sphcut_compat.h"
@@ -111,11 +111,11 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
                  id_surface);
   }
   const int n = atom->ntypes + 1;
-  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "heat/fmfs:mat");
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(model->materials(), n, "heat/fmfs:mat");
   std::vector<double> hij((size_t) n * n, 0.0), h(n, 0.0);
   for (int i = 1; i < n; i++) {
-    h[i] = pair->smoothing_length(i);
-    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = pair->smoothing_length(i, j);
+    h[i] = model->smoothing_length(i);
+    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = model->smoothing_length(i, j);
   }
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
@@ -226,7 +226,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   if (surfkk) surf = surfkk->k_out.template view<DeviceType>();
   auto mat = d_mat;
   auto hij = d_hij;
-  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
+  const int nt = atom->ntypes + 1, kern = model->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
   const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
   const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
   const int losses = hconv > 0.0 || emiss > 0.0;
@@ -321,7 +321,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   }
   auto mat = d_mat;
   auto tp = d_tp;
-  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
+  const int nt = atom->ntypes + 1, kern = model->kernel(), gb = groupbit, use_rmass = atom->rmass_flag;
   const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
   const double flam = fmfs_lambda, hc = hconv, tc = tconv, es = emiss * sphcut::STEFAN_BOLTZMANN_SI, tr = trad;
   const double thr = surfkk ? surfkk->threshold : 0.0;
