@@ -129,7 +129,7 @@ SPHCUT_INLINE double jc_flow_stress(const Material &mat, double eps, double epsd
   return jc_hardening(mat, eps) * jc_rate_factor(mat, epsdot) * jc_thermal_factor(mat, T);
 }
 
-/* ---- modified Johnson-Cook with strain softening ("TANH", Calamaz, Moufki & Nouari 2008,
+/* ---- modified Johnson-Cook with strain softening ("TANH", Calamaz, Coupard & Girot 2008,
    Int. J. Mach. Tools Manuf. 48, 275; used for Ti6Al4V chip segmentation):
      sigma_y = [A + B eps^n exp(-eps^a)] [1 + C ln(epsdot*)] [1 - T*^m]
                [D + (1 - D) tanh(1 / (eps + S)^c)],   D = 1 - (T/Tmelt)^d,  S = (T/Tmelt)^b
