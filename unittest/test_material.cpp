@@ -71,6 +71,24 @@ void random_deviator(std::mt19937 &gen, double q, double *s)
   for (int k = 0; k < 6; k++) s[k] *= q / vm;
 }
 
+// one radial return of a random trial deviator `over` times the yield stress at eps (the
+// material's law at the lowest rate): the trial and returned stress, q_trial, deps, sigy, y0
+struct TrialReturn {
+  double s[6], s0[6], q0, deps, sigy, y0;
+};
+
+TrialReturn trial_return(const Material &mat, std::mt19937 &gen, double eps, double T, double dt, double over,
+                         double guess = 0.0)
+{
+  TrialReturn r;
+  r.y0 = flow_stress(mat, eps, 0.0, T);
+  random_deviator(gen, over * r.y0, r.s);
+  for (int k = 0; k < 6; k++) r.s0[k] = r.s[k];
+  r.q0 = von_mises(r.s0);
+  r.deps = radial_return(mat, r.s, eps, T, dt, &r.sigy, guess);
+  return r;
+}
+
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -319,17 +337,13 @@ TEST(FlowTanh, RadialReturnConverges)
     for (double eps : {0.0, 0.05, 0.8, 2.0})
       for (double T : {300.0, 900.0, 1500.0})
         for (double over : {1.0001, 1.05, 1.5, 3.0}) {
-          double s[6], s0[6], sigy;
-          const double y0 = flow_stress(mat, eps, 0.0, T);
-          random_deviator(gen, over * y0, s);
-          for (int k = 0; k < 6; k++) s0[k] = s[k];
-          const double q0 = von_mises(s0);
-          const double deps = radial_return(mat, s, eps, T, dt, &sigy, over > 1.4 ? 1.0e-3 : 0.0);
+          const TrialReturn r = trial_return(mat, gen, eps, T, dt, over, over > 1.4 ? 1.0e-3 : 0.0);
+          const double q0 = r.q0, deps = r.deps, sigy = r.sigy;
           ASSERT_GT(deps, 0.0);
           const double sy = flow_stress(mat, eps + deps, deps / dt, T);
           EXPECT_NEAR(q0 - 3.0 * mat.G * deps, sy, 1.0e-9 * sy)
               << "dt " << dt << " eps " << eps << " T " << T << " over " << over;
-          EXPECT_NEAR(von_mises(s), sy, 1.0e-9 * sy);
+          EXPECT_NEAR(von_mises(r.s), sy, 1.0e-9 * sy);
           EXPECT_NEAR(sigy, sy, 1.0e-9 * sy);
         }
   // below the (softened) yield stress: elastic, and the yield stress reported is the law's
@@ -398,12 +412,8 @@ TEST(RadialReturn, HardeningAndRateConsistency)
   for (double eps : {0.0, 0.05, 0.8})
     for (double T : {300.0, 700.0})
       for (double over : {1.0001, 1.05, 1.5, 3.0}) {
-        double s[6], s0[6], sigy;
-        const double y0 = jc_flow_stress(mat, eps, 0.0, T);
-        random_deviator(gen, over * y0, s);
-        for (int k = 0; k < 6; k++) s0[k] = s[k];
-        const double q0 = von_mises(s0);
-        const double deps = radial_return(mat, s, eps, T, dt, &sigy);
+        const TrialReturn r = trial_return(mat, gen, eps, T, dt, over);    // flow jc: jc_flow_stress
+        const double *s = r.s, *s0 = r.s0, q0 = r.q0, deps = r.deps, sigy = r.sigy, y0 = r.y0;
         ASSERT_GT(deps, 0.0);
         const double sy = jc_flow_stress(mat, eps + deps, deps / dt, T);
         EXPECT_NEAR(q0 - 3.0 * mat.G * deps, sy, 1.0e-9 * sy)
