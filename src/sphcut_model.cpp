@@ -136,7 +136,7 @@ void Model::coeff(LAMMPS *lmp, int narg, char **arg)
   double h = 0.0, hx = 0.0;
   Material m = parse_material(lmp, narg, arg, nmat, h, hx);
   if (nmat) check_material(lmp, m, arg[0], arg[1]);
-  store(lmp, narg, arg, m, nmat, h, hx);
+  store(lmp, arg, m, nmat, h, hx);
 }
 
 // the keywords of one pair_coeff line: the material's values (those not given UNSET, nmat: how
@@ -256,7 +256,7 @@ void Model::check_material(LAMMPS *lmp, Material &m, const char *iarg, const cha
 }
 
 // the material to the like types t in I and J, h / hdx to every pair (I,J)
-void Model::store(LAMMPS *lmp, int /*narg*/, char **arg, const Material &m, int nmat, double h, double hx)
+void Model::store(LAMMPS *lmp, char **arg, const Material &m, int nmat, double h, double hx)
 {
   Error *error = lmp->error;
   int ilo, ihi, jlo, jhi;
@@ -491,8 +491,14 @@ void Model::read_material(LAMMPS *lmp, FILE *fp, int version, int legacy_size, M
         utils::sfread(FLERR, &value, sizeof(double), 1, fp, nullptr, error);
         bool known = false;
         for (const auto &f : material_flags())
-          if (name == f.name) m.*(f.value) = (int) value, known = true;
-        if (const MaterialField *f = find_field(name)) m.*(f->value) = value, known = true;
+          if (name == f.name) {
+            m.*(f.value) = (int) value;
+            known = true;
+          }
+        if (const MaterialField *f = find_field(name)) {
+          m.*(f->value) = value;
+          known = true;
+        }
         if (!known && unknown.empty()) unknown = name;
       }
       if (m.defined) material_derive(m);

@@ -103,7 +103,7 @@ class Model {
 
   Material parse_material(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, int &nmat, double &h, double &hx) const;
   void check_material(LAMMPS_NS::LAMMPS *lmp, Material &m, const char *iarg, const char *jarg) const;
-  void store(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, const Material &m, int nmat, double h, double hx);
+  void store(LAMMPS_NS::LAMMPS *lmp, char **arg, const Material &m, int nmat, double h, double hx);
   void read_material(LAMMPS_NS::LAMMPS *lmp, FILE *fp, int version, int legacy_size, Material &m);
 };
 
