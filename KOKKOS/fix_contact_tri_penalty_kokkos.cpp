@@ -72,11 +72,11 @@ template <class DeviceType> struct ContactKernel {
   const unsigned value_count = NRED;
   typedef ArrayTypes<DeviceType> AT;
   typedef typename DeviceType::memory_space mem;
-  typename AT::t_x_array_const x;
-  typename AT::t_v_array_const v;
-  typename AT::t_f_array f;
+  typename sphcut::AtomTypes<DeviceType>::x_const x;
+  typename sphcut::AtomTypes<DeviceType>::v_const v;
+  typename sphcut::AtomTypes<DeviceType>::f f;
   typename AT::t_int_1d_const mask, type;
-  typename AT::t_float_1d_const rmass, mass;
+  typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
   typename AT::t_double_2d state;
   typename AT::t_double_2d qtw;       // tool heat per kernel weight (one column)
   typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
@@ -651,6 +651,20 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_ve
 
 /* ---------------------------------------------------------------------- */
 
+#ifdef SPHCUT_KK_API_2026
+template <class DeviceType>
+int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
+                                                                     DAT::tdual_double_1d &k_buf, int, int *)
+{
+  return sphcut::pack_columns<DeviceType>(k_qtw, 0, 1, n, k_sendlist, 0, k_buf);
+}
+
+template <class DeviceType>
+void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+{
+  sphcut::unpack_columns<DeviceType>(k_qtw, 0, 1, n, first, k_buf);
+}
+#else
 template <class DeviceType>
 int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist,
                                                                           int iswap, DAT::tdual_xfloat_1d &k_buf,
@@ -665,6 +679,7 @@ void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int 
 {
   sphcut::unpack_columns<DeviceType>(k_qtw, 0, 1, n, first, k_buf);
 }
+#endif
 
 template <class DeviceType>
 int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)

@@ -26,6 +26,7 @@ FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
 #include "fix_contact_tri_penalty.h"
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_kokkos.h"
 #include "sphcut_contact.h"
 #include "sphcut_material.h"
 
@@ -49,8 +50,13 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   void write_restart(FILE *) override;
   double dt_limit(double, double) const override { return 1.0e300; }    // on the device (k_dtlim)
   int dt_limit_on_device() const override { return 1; }
+#ifdef SPHCUT_KK_API_2026
+  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
+  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
+#else
   int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+#endif
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
 
@@ -68,7 +74,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   Kokkos::View<int *, mem> d_feature;            // tool feature of each element
   void upload();
   Kokkos::View<double *, mem> d_sums;            // the contact kernel's sums and accumulators (.cpp)
-  typename Kokkos::View<double *, mem>::HostMirror h_sums;
+  typename Kokkos::View<double *, mem>::host_mirror_type h_sums;
   int stale = 0;                                 // d_sums holds what the host copies lack
   void fetch();
   // a record per contact of the last evaluation: sphcut::contact_record, the tool feature, the

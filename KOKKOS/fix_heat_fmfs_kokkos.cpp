@@ -53,7 +53,7 @@ template <class DeviceType> struct DirichletEnergy {
   typedef typename DeviceType::memory_space mem;
   typename AT::t_double_2d st;
   typename AT::t_int_1d_const mask, type;
-  typename AT::t_float_1d_const rmass, mass;
+  typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const int *, mem> db;
   Kokkos::View<const double *, mem> dtemp;
@@ -459,6 +459,20 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
 
 /* ---------------------------------------------------------------------- */
 
+#ifdef SPHCUT_KK_API_2026
+template <class DeviceType>
+int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
+                                                            DAT::tdual_double_1d &k_buf, int, int *)
+{
+  return sphcut::pack_columns<DeviceType>(k_fwts, 0, NW, n, k_sendlist, 0, k_buf);
+}
+
+template <class DeviceType>
+void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+{
+  sphcut::unpack_columns<DeviceType>(k_fwts, 0, NW, n, first, k_buf);
+}
+#else
 template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
                                                                  DAT::tdual_xfloat_1d &k_buf, int, int *)
@@ -471,6 +485,7 @@ void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int fi
 {
   sphcut::unpack_columns<DeviceType>(k_fwts, 0, NW, n, first, k_buf);
 }
+#endif
 
 // the classic (host) path of the forward communication
 template <class DeviceType>

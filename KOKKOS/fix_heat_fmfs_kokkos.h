@@ -21,6 +21,7 @@ FixStyle(heat/fmfs/kk/host,FixHeatFMFSKokkos<LMPHostType>);
 #include "fix_heat_fmfs.h"
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_kokkos.h"
 #include "sphcut_material.h"
 
 namespace LAMMPS_NS {
@@ -44,8 +45,13 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void write_restart(FILE *) override;
   void post_run() override;
   double dt_limit(double, double F) const override;
+#ifdef SPHCUT_KK_API_2026
+  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
+  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
+#else
   int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+#endif
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   bool begin_evaluation() override;

@@ -66,10 +66,10 @@ template <class DeviceType> struct SecondHalf {
   typedef double value_type[];
   const unsigned value_count = 3;
   typedef ArrayTypes<DeviceType> AT;
-  typename AT::t_v_array v;
-  typename AT::t_f_array_const f;
+  typename sphcut::AtomTypes<DeviceType>::v v;
+  typename sphcut::AtomTypes<DeviceType>::f_const f;
   typename AT::t_int_1d_const mask, type;
-  typename AT::t_float_1d_const rmass, mass;
+  typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
@@ -141,7 +141,7 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   k_state.modify_host();
   remap = comm->nprocs == 1 && atom->tag_enable;
   k_dtlim = DAT::tdual_double_1d("sph/jc-thermal:dtlim", 1);
-  k_dtlim.h_view(0) = 1.0e300;
+  k_dtlim.view_host()(0) = 1.0e300;
   k_dtlim.modify_host();
   k_dtlim.template sync<DeviceType>();
 }
@@ -368,6 +368,20 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   sphcut::forward_comm(comm, this);
 }
 
+#ifdef SPHCUT_KK_API_2026
+template <class DeviceType>
+int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
+                                                                DAT::tdual_double_1d &k_buf, int, int *)
+{
+  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, 0, k_buf);
+}
+
+template <class DeviceType>
+void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+{
+  sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
+}
+#else
 template <class DeviceType>
 int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist,
                                                                      int iswap, DAT::tdual_xfloat_1d &k_buf,
@@ -381,6 +395,7 @@ void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, in
 {
   sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
 }
+#endif
 
 /* ---------------------------------------------------------------------- */
 

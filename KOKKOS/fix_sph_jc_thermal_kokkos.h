@@ -20,6 +20,7 @@ FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
 #include "fix_sph_jc_thermal.h"
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_kokkos.h"
 #include "sphcut_material.h"
 
 namespace LAMMPS_NS {
@@ -71,8 +72,13 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void unpack_restart(int, int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+#ifdef SPHCUT_KK_API_2026
+  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
+  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
+#else
   int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+#endif
 
   double stable_dt() override;
   std::string timing_note() const override

@@ -108,7 +108,7 @@ struct PairSums {
 // sums of another particle: atomics into the per-atom table and the force
 template <class DeviceType> struct AtomicAdd {
   typename ArrayTypes<DeviceType>::t_double_2d acc;
-  typename ArrayTypes<DeviceType>::t_f_array f;
+  typename sphcut::AtomTypes<DeviceType>::f f;
   int j;
   KOKKOS_INLINE_FUNCTION void operator()(int k, double val) const
   {
@@ -150,23 +150,14 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
   if (!fixkk)
     error->all(FLERR, "Pair sph/jc-thermal/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
-  if (atom->rmass_flag && atomKK->k_rmass.h_view.data() != atom->rmass)
+  if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
                "(fix property/atom rmass); use per-type masses (mass command) or atom_style sphere");
   neighflag = lmp->kokkos->neighflag;
-  NeighRequest *rq = neighbor->requests[neighbor->nrequest - 1];
-  rq->kokkos_host = std::is_same<DeviceType, LMPHostType>::value && !std::is_same<DeviceType, LMPDeviceType>::value;
-  rq->kokkos_device = std::is_same<DeviceType, LMPDeviceType>::value;
-  if (neighflag == FULL) {
-    rq->full = 1;
-    rq->half = 0;
-  } else if (neighflag == HALF || neighflag == HALFTHREAD) {
-    rq->full = 0;
-    rq->half = 1;
-  } else {
+  if (neighflag != FULL && neighflag != HALF && neighflag != HALFTHREAD)
     error->all(FLERR, "Pair sph/jc-thermal/kk: neighbor list kind {} not supported (full, half, half/thread)",
                neighflag);
-  }
+  sphcut::kokkos_list<DeviceType>(neighbor, neighflag == FULL);
   if (mdl.hourglass_coefficient() > 0.0 && neighflag != FULL)
     error->all(FLERR, "Pair sph/jc-thermal/kk: hourglass {} needs the full neighbor list (package kokkos neigh full)",
                mdl.hourglass_coefficient());
@@ -466,7 +457,7 @@ template <class DeviceType>
 int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
   k_lgrad.sync_host();
-  auto h = k_lgrad.h_view;
+  auto h = k_lgrad.view_host();
   int m = 0;
   for (int ii = 0; ii < n; ii++)
     for (int k = 0; k < 9; k++) buf[m++] = h(list[ii], k);
@@ -476,13 +467,27 @@ int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm(int n, int *list, doub
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
   k_lgrad.sync_host();
-  auto h = k_lgrad.h_view;
+  auto h = k_lgrad.view_host();
   int m = 0;
   for (int i = first; i < first + n; i++)
     for (int k = 0; k < 9; k++) h(i, k) = buf[m++];
   k_lgrad.modify_host();
 }
 
+#ifdef SPHCUT_KK_API_2026
+template <class DeviceType>
+int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
+                                                                 DAT::tdual_double_1d &k_buf, int, int *)
+{
+  return sphcut::pack_columns<DeviceType>(k_lgrad, 0, 9, n, k_sendlist, 0, k_buf);
+}
+
+template <class DeviceType>
+void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+{
+  sphcut::unpack_columns<DeviceType>(k_lgrad, 0, 9, n, first, k_buf);
+}
+#else
 template <class DeviceType>
 int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
                                                                  DAT::tdual_xfloat_1d &k_buf, int, int *)
@@ -495,6 +500,7 @@ void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int f
 {
   sphcut::unpack_columns<DeviceType>(k_lgrad, 0, 9, n, first, k_buf);
 }
+#endif
 
 // per particle after the half-list sums: the rates
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(int nlocal)
@@ -518,7 +524,7 @@ template <class DeviceType>
 int PairSPHJCThermalKokkos<DeviceType>::pack_reverse_comm(int n, int first, double *buf)
 {
   k_acc.sync_host();
-  auto h = k_acc.h_view;
+  auto h = k_acc.view_host();
   int m = 0;
   for (int i = first; i < first + n; i++)
     for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) buf[m++] = h(i, k);
@@ -529,7 +535,7 @@ template <class DeviceType>
 void PairSPHJCThermalKokkos<DeviceType>::unpack_reverse_comm(int n, int *list, double *buf)
 {
   k_acc.sync_host();
-  auto h = k_acc.h_view;
+  auto h = k_acc.view_host();
   int m = 0;
   for (int ii = 0; ii < n; ii++)
     for (int k = sphcut::ACC_FIRST_REVERSE; k < sphcut::NACC; k++) h(list[ii], k) += buf[m++];

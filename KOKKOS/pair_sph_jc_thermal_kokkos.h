@@ -23,6 +23,7 @@ PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
 
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_kokkos.h"
 #include "pair_sph_jc_thermal.h"
 
 namespace LAMMPS_NS {
@@ -46,8 +47,13 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // path LAMMPS takes here) or on the device
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+#ifdef SPHCUT_KK_API_2026
+  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
+  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
+#else
   int pack_forward_comm_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
   void unpack_forward_comm_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
+#endif
   double memory_usage() override;
 
   // the passes (public: they launch device lambdas)
@@ -60,7 +66,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   enum { TEAM_AUTO_MAX = 8192, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
   int use_team(int inum) const;
   struct NeighViews {
-    typename AT::t_f_array f;
+    typename sphcut::AtomTypes<DeviceType>::f f;
     typename AT::t_int_1d_const type;
     typename AT::t_double_2d st, pk;
     t_mat mt;

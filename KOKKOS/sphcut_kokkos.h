@@ -18,7 +18,54 @@
 #include <mpi.h>
 #include <string>
 
+// The KOKKOS API of LAMMPS changed between the two versions the /kk styles compile against:
+//   29Sep2021 (Kokkos 3.4, built and run): forward communication of fixes through
+//     pack_forward_comm_fix_kokkos, of pairs through pack_forward_comm_kokkos, with a 2D send
+//     list (swap, i) and a buffer of type DAT::tdual_xfloat_1d; atom views t_x_array,
+//     t_v_array, t_f_array, t_float_1d; NeighRequest flags set directly.
+//   4Jul2026 (Kokkos 5.2, compile-checked only: tools/compat-check.sh --kokkos): one
+//     KokkosBase::pack_forward_comm_kokkos for fixes and pairs, the send list of the swap (1D)
+//     and a DAT::tdual_double_1d buffer; atom views t_kkfloat_1d_3_lr (x), t_kkfloat_1d_3 (v),
+//     t_kkacc_1d_3 (f), t_kkfloat_1d (masses) (double unless LAMMPS is built for single
+//     precision); NeighRequest::set_kokkos_host/device and enable_full.
+// The versions in between were not checked.
+#if SPHCUT_LAMMPS_VERSION >= 20260704
+#define SPHCUT_KK_API_2026 1
+#endif
+
 namespace sphcut {
+
+#ifdef SPHCUT_KK_API_2026
+typedef ::DAT::tdual_double_1d kk_buf;         // forward communication buffer
+typedef ::DAT::tdual_int_1d kk_sendlist;       // send list of one swap
+#else
+typedef ::DAT::tdual_xfloat_1d kk_buf;
+typedef ::DAT::tdual_int_2d kk_sendlist;       // (swap, i)
+#endif
+
+// the view types of the atom arrays the /kk kernels read and write
+template <class DeviceType> struct AtomTypes {
+  typedef ArrayTypes<DeviceType> AT;
+#ifdef SPHCUT_KK_API_2026
+  typedef typename AT::t_kkfloat_1d_3_lr x;
+  typedef typename AT::t_kkfloat_1d_3_lr_const x_const;
+  typedef typename AT::t_kkfloat_1d_3 v;
+  typedef typename AT::t_kkfloat_1d_3_const v_const;
+  typedef typename AT::t_kkacc_1d_3 f;
+  typedef typename AT::t_kkacc_1d_3_const f_const;
+  typedef typename AT::t_kkfloat_1d scalar;
+  typedef typename AT::t_kkfloat_1d_const scalar_const;
+#else
+  typedef typename AT::t_x_array x;
+  typedef typename AT::t_x_array_const x_const;
+  typedef typename AT::t_v_array v;
+  typedef typename AT::t_v_array_const v_const;
+  typedef typename AT::t_f_array f;
+  typedef typename AT::t_f_array_const f_const;
+  typedef typename AT::t_float_1d scalar;
+  typedef typename AT::t_float_1d_const scalar_const;
+#endif
+};
 
 // device copy of a host array of plain structs (materials, type-pair constants)
 template <class T, class DeviceType>
@@ -46,8 +93,8 @@ template <class DeviceType> inline auto range(int begin, int end)
 // device (pack_/unpack_forward_comm_fix_kokkos of the /kk fixes) and on the host (the classic
 // path of CommKokkos)
 template <class DeviceType>
-int pack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n,
-                 ::DAT::tdual_int_2d k_sendlist, int iswap, ::DAT::tdual_xfloat_1d &k_buf)
+int pack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, kk_sendlist k_sendlist,
+                 int iswap, kk_buf &k_buf)
 {
   k.template sync<DeviceType>();
   auto list = k_sendlist.view<DeviceType>();
@@ -55,15 +102,18 @@ int pack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n,
   auto v = k.template view<DeviceType>();
   Kokkos::parallel_for(
       "sphcut:pack_columns", range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
+#ifdef SPHCUT_KK_API_2026
+        const int j = list(ii);
+#else
         const int j = list(iswap, ii);
+#endif
         for (int c = 0; c < ncol; c++) buf(ii * ncol + c) = v(j, col0 + c);
       });
   return n * ncol;
 }
 
 template <class DeviceType>
-void unpack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, int first,
-                    ::DAT::tdual_xfloat_1d &k_buf)
+void unpack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, int first, kk_buf &k_buf)
 {
   k.template sync<DeviceType>();
   auto buf = k_buf.view<DeviceType>();
@@ -80,7 +130,7 @@ inline int pack_columns_host(::DAT::tdual_double_2d &k, int ncol, int n, const i
   k.sync_host();
   int m = 0;
   for (int ii = 0; ii < n; ii++)
-    for (int c = 0; c < ncol; c++) buf[m++] = k.h_view(list[ii], c);
+    for (int c = 0; c < ncol; c++) buf[m++] = k.view_host()(list[ii], c);
   return m;
 }
 
@@ -89,7 +139,7 @@ inline void unpack_columns_host(::DAT::tdual_double_2d &k, int ncol, int n, int 
   k.sync_host();
   int m = 0;
   for (int i = first; i < first + n; i++)
-    for (int c = 0; c < ncol; c++) k.h_view(i, c) = buf[m++];
+    for (int c = 0; c < ncol; c++) k.view_host()(i, c) = buf[m++];
   k.modify_host();
 }
 
@@ -131,25 +181,39 @@ inline LAMMPS_NS::LAMMPS *require_kokkos(LAMMPS_NS::LAMMPS *lmp, const std::stri
   return lmp;
 }
 
-// mark the neighbour request a style just made (sphcut::request_full_list) as a full Kokkos list
-// on DeviceType, so that the list is built on the device
-template <class DeviceType> void kokkos_full_list(LAMMPS_NS::Neighbor *neighbor)
+// mark the neighbour request a style just made as a Kokkos list on DeviceType, so that the list
+// is built on the device; full: a full list, else a half list
+template <class DeviceType> void kokkos_list(LAMMPS_NS::Neighbor *neighbor, bool full)
 {
   LAMMPS_NS::NeighRequest *rq = neighbor->requests[neighbor->nrequest - 1];
-  rq->kokkos_host = std::is_same<DeviceType, ::LMPHostType>::value &&
+  const int host = std::is_same<DeviceType, ::LMPHostType>::value &&
       !std::is_same<DeviceType, ::LMPDeviceType>::value;
-  rq->kokkos_device = std::is_same<DeviceType, ::LMPDeviceType>::value;
-  rq->full = 1;
-  rq->half = 0;
+  const int device = std::is_same<DeviceType, ::LMPDeviceType>::value;
+#if SPHCUT_LAMMPS_VERSION >= 20220324
+  rq->set_kokkos_host(host);
+  rq->set_kokkos_device(device);
+  if (full) rq->enable_full();    // neighbor->add_request made a half list unless asked for full
+#else
+  rq->kokkos_host = host;
+  rq->kokkos_device = device;
+  rq->full = full ? 1 : 0;
+  rq->half = full ? 0 : 1;
+#endif
+}
+
+// the request made by sphcut::request_full_list as a full Kokkos list on DeviceType
+template <class DeviceType> void kokkos_full_list(LAMMPS_NS::Neighbor *neighbor)
+{
+  kokkos_list<DeviceType>(neighbor, true);
 }
 
 // the views of the atoms, of the solid's state and of a Kokkos neighbour list that the /kk
 // kernels read: gathered in one place (atom_views) instead of one local per view in each kernel
 template <class DeviceType> struct AtomViews {
   typedef ArrayTypes<DeviceType> AT;
-  typename AT::t_x_array x;
+  typename AtomTypes<DeviceType>::x x;
   typename AT::t_int_1d mask, type;
-  typename AT::t_float_1d rmass, mass;
+  typename AtomTypes<DeviceType>::scalar rmass, mass;
   typename AT::t_double_2d st;
   typename AT::t_neighbors_2d neighbors;    // (empty without a list)
   typename AT::t_int_1d numneigh, ilist;

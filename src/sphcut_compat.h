@@ -5,7 +5,8 @@
                 neighbor->request() plus setting NeighRequest members
      >= 24Mar2022: comm->forward_comm(this), comm->reverse_comm(this) and
                 neighbor->add_request(this, flags) (doc/src/Developer_updating.rst)
-   Checked with -fsyntax-only against 4Feb2025 and 4Jul2026 (Debian sources).
+   Checked with -fsyntax-only against 4Feb2025 and 4Jul2026 (Debian sources) by the ctest
+   test_compat_lammps (tools/compat-check.sh).
 ------------------------------------------------------------------------- */
 
 #ifndef SPHCUT_COMPAT_H

@@ -7,9 +7,12 @@
 #ifndef SPHCUT_TIMER_H
 #define SPHCUT_TIMER_H
 
+#include "pointers.h"
+
 #include <mpi.h>
 
 #include <string>
+#include <type_traits>
 
 namespace sphcut {
 
@@ -31,7 +34,14 @@ class ScopedTimer {
 // minimum over the styles and ranks)
 class AttachedStyle {
  public:
-  virtual ~AttachedStyle() = default;
+  // the same exception specification as LAMMPS' Pointers::~Pointers(), which the styles' other
+  // base (Fix, Pair, Compute) derives from: implicit noexcept up to LAMMPS 29Sep2021, declared
+  // noexcept(false) in newer versions (4Feb2025, 4Jul2026: errors may be thrown from
+  // destructors).  Were the two bases to differ, the implicit specification of a style's
+  // destructor would be looser than that of the base destructor it overrides, a compile error
+  // (tools/compat-check.sh compiles the sources against those versions' headers).
+  // Taken from the type, not a version number, so it follows LAMMPS wherever it changes.
+  virtual ~AttachedStyle() noexcept(std::is_nothrow_destructible<LAMMPS_NS::Pointers>::value) {}
   virtual std::string timing_name() const = 0;
   // stable dt of this style's physics for the Courant numbers of fix sph/jc-thermal
   virtual double dt_limit(double /*cfl*/, double /*thermal_cfl*/) const { return 1.0e300; }

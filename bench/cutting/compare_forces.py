@@ -14,7 +14,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "../../examples/cutting-2d-ti6al4v"))
 from steady import read_rows    # noqa: E402
-from plot import EXP_FC, EXP_FT, SPH_FC, SPH_FT    # noqa: E402
+from seed003 import EXP_FC, EXP_FT, SPH_FC, SPH_FT    # noqa: E402
 
 
 def main(argv):

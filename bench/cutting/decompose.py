@@ -14,15 +14,14 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "examples", "cutting-2d-ti6al4v"))
+from seed003 import STEADY_FROM, steady_rows  # noqa: E402
 from steady import read_rows  # noqa: E402
 
 FEATURES = ("rake", "edge", "flank")
 
 
 def steady_forces(run):
-    rows = read_rows(os.path.join(run, "forces.dat"))
-    lmax = max(r[1] for r in rows)
-    sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+    lmax, sel = steady_rows(read_rows(os.path.join(run, "forces.dat")))
     return lmax, sum(r[2] for r in sel) / len(sel), sum(r[3] for r in sel) / len(sel), \
         sum(r[5] for r in sel) / len(sel), len(sel)
 
@@ -39,9 +38,7 @@ def block_error(values, nblock=5):
 
 
 def steady_errors(run):
-    rows = read_rows(os.path.join(run, "forces.dat"))
-    lmax = max(r[1] for r in rows)
-    sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+    sel = steady_rows(read_rows(os.path.join(run, "forces.dat")))[1]
     return block_error([r[2] for r in sel]), block_error([r[3] for r in sel])
 
 
@@ -56,7 +53,7 @@ def decomposition(run):
         by_step[int(v[0])] = [float(x) for x in v[1:]]
     rows = [by_step[k] for k in sorted(by_step)]
     lmax = max(r[0] for r in rows)
-    sel = [r for r in rows if r[0] >= 0.1 * lmax and r[0] > 0.0]
+    sel = [r for r in rows if r[0] >= STEADY_FROM * lmax and r[0] > 0.0]
     ncol = len(sel[0]) - 1
     return [sum(r[1 + c] for r in sel) / len(sel) for c in range(ncol)], len(sel)
 
@@ -126,7 +123,7 @@ def i_vals(f, i):
 def main(run, mu=0.35, dx=0.0):
     lmax, fc, ft, trake, ns = steady_forces(run)
     d, nd = decomposition(run)
-    print(f"{run}: steady state over {0.1 * lmax:.3f}-{lmax:.3f} mm ({ns} force samples, {nd} decomposition samples)")
+    print(f"{run}: steady state over {STEADY_FROM * lmax:.3f}-{lmax:.3f} mm ({ns} force samples, {nd} decomposition samples)")
     print(f"total (forces.dat): Fc {fc:.1f} N/mm, Ft {ft:.1f} N/mm, Ft/Fc {ft / fc:.3f}, T_rake {trake:.0f} K")
     print(f"{'feature':8s} {'Fc_N':>7s} {'Fc_fric':>8s} {'Ft_N':>7s} {'Ft_fric':>8s} {'sumFN':>7s} {'sum|FT|':>8s} "
           f"{'contacts':>8s} {'sum|FT|/sumFN':>13s} {'at limit':>8s}   (N/mm; on the tool)")

@@ -2,25 +2,30 @@
 # The full-length cuts of examples/cutting-2d-ti6al4v on the device machine's CPU cores
 # (16 cores, MPI; no network).  Runs of more than the 10 minutes one device command may
 # take are split with the example's restart support (-var walltime / -var continue).
-#   bash bench/cutting/device-cut.sh start      build LAMMPS (OpenMP Kokkos, MPI) + plugin
-#                                               from .carry/sphcut-sources.tar.gz if needed, start the runs
+#   bash bench/cutting/device-cut.sh start      build LAMMPS + plugin (bench/gpu/common.sh's build,
+#                                               from .carry/sphcut-sources.tar.gz, once per machine;
+#                                               the CPU styles run without -k on), start the runs
 #   bash bench/cutting/device-cut.sh continue   continue every unfinished run from its restart
 # Environment: NY (particles across, default 21), CUT (m, default 2e-3), MUS (friction
 # coefficients run side by side, default "0.35 0.65"), NP (ranks per run, default cores/runs),
-# WALL (seconds of run per call, default 420).  Each run's output goes to $OUT as one archive.
+# WALL (seconds of run per call, default 420).  Runs in /tmp/cut/run-ny*-mu* (kept while the
+# machine stays warm); each run's output goes to $OUT as one archive.
 # The sources: bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
 set -euo pipefail
 MODE="${1:-start}"
 NY="${NY:-21}"; CUT="${CUT:-2e-3}"; MUS="${MUS:-0.35 0.65}"; WALL="${WALL:-420}"
 OUT="${OUT:-$PWD/device-out}"
-ROOT="$PWD"
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 nrun=$(echo $MUS | wc -w)
 NP="${NP:-$(( $(nproc) / nrun ))}"
-source "$ROOT/bench/cutting/device-build.sh"    # once per machine
+source "$ROOT/bench/gpu/common.sh"    # the device build (build-cuda/), once per machine
+build
+LMP="$BIN"
+RUNS=/tmp/cut
 IN="$ROOT/examples/cutting-2d-ti6al4v/in.cutting"
 pids=()
 for mu in $MUS; do
-  dir="$ROOT/build-device/run-ny$NY-mu$mu"; mkdir -p "$dir"
+  dir="$RUNS/run-ny$NY-mu$mu"; mkdir -p "$dir"
   if [ -f "$dir/done" ]; then continue; fi
   cont=0; [ "$MODE" = continue ] && [ -f "$dir/restart.cutting" ] && cont=1
   seg=$(find "$dir" -maxdepth 1 -name 'log.*' | wc -l)
@@ -33,7 +38,7 @@ for mu in $MUS; do
 done
 for p in "${pids[@]}"; do wait "$p"; done
 for mu in $MUS; do
-  dir="$ROOT/build-device/run-ny$NY-mu$mu"
+  dir="$RUNS/run-ny$NY-mu$mu"
   # one archive per run (the device returns few files): forces, logs, dump, last tool file
   last=$(find "$dir" -maxdepth 1 -name "tool-*.vtk" | sort -t- -k2 -n | tail -1)
   files="forces.dat $(cd "$dir" && { ls log.* dump.cutting done restart.cutting 2>/dev/null || true; } | tr '\n' ' ') ${last##*/}"

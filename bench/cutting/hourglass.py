@@ -28,6 +28,9 @@ import math
 import os
 import sys
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "cutting-2d-ti6al4v"))
+from seed003 import RHO0, STEADY_FROM, VC, spacing  # noqa: E402
+
 
 def read_frames(path):
     """all frames of a dump: (step, dict column -> list)"""
@@ -66,7 +69,7 @@ def analyse(f, dx, hdx, vc):
     h = hdx * dx
     idx = [i for i, r in enumerate(f["role"]) if r != 1.0]
     x, y, vx, vy, rho = (f[c] for c in ("x", "y", "vx", "vy", "density"))
-    m = 4430.0 * dx * dx
+    m = RHO0 * dx * dx
     cell = 2.0 * h
     grid = {}
     for i in idx:
@@ -179,8 +182,8 @@ def region_stats(sel, res, nbrs, dx, vc):
 NAMES = ("contact", "1 further", "2 further", "4.5-6.5 further", "moving")
 
 
-def run_stats(run, ny, vc_mpm=318.5, hdx=1.3, quiet=False):
-    dx = 0.3e-3 / (ny - 1)
+def run_stats(run, ny, vc_mpm=VC, hdx=1.3, quiet=False):
+    dx = spacing(ny)
     vc = vc_mpm / 60.0
     cut = {}
     for line in open(os.path.join(run, "forces.dat")):    # step time cut_mm ...
@@ -200,7 +203,7 @@ def run_stats(run, ny, vc_mpm=318.5, hdx=1.3, quiet=False):
         reg = regions(f, dx, vc)
         st = {n: region_stats(reg[n], res, nbrs, dx, vc) for n in NAMES if n in reg}
         series.append((lc, st))
-        if lc >= 0.1 * lmax:
+        if lc >= STEADY_FROM * lmax:
             for n, v in st.items():
                 if v is not None:
                     acc[n].append(v)
@@ -242,4 +245,4 @@ if __name__ == "__main__":
         table(int(sys.argv[2]), sys.argv[3:])
         sys.exit(0)
     a = sys.argv[1:]
-    run_stats(a[0], int(a[1]), float(a[2]) if len(a) > 2 else 318.5, float(a[3]) if len(a) > 3 else 1.3)
+    run_stats(a[0], int(a[1]), float(a[2]) if len(a) > 2 else VC, float(a[3]) if len(a) > 3 else 1.3)

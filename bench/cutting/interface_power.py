@@ -13,14 +13,15 @@ import statistics
 import sys
 
 from hourglass import read_frames    # the dump reader of this folder
+from seed003 import RHO0, VC, spacing    # noqa: E402 (hourglass.py puts the example on the path)
 
 
 def main():
     path = sys.argv[1]
     ny = int(sys.argv[2]) if len(sys.argv) > 2 else 11
     first = int(sys.argv[3]) if len(sys.argv) > 3 else 20000
-    vc = (float(sys.argv[4]) if len(sys.argv) > 4 else 318.5) / 60.0
-    dx, rho0, ytip = 0.3e-3 / (ny - 1), 4430.0, 0.2e-3
+    vc = (float(sys.argv[4]) if len(sys.argv) > 4 else VC) / 60.0
+    dx, rho0, ytip = spacing(ny), RHO0, 0.2e-3
     rows = []
     for step, f in read_frames(path):
         tool = [k for k, t in enumerate(f["type"]) if t == 2]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Steady-state forces of finished cutting runs side by side.
-Usage: summarise.py RUN ...   (RUN = a folder or a .tar.gz from device-cut.sh / device-sensitivity.sh
-holding forces.dat and log.*).  Mean Fc, Ft and rake-face temperature after 10 % of the cut
+Usage: summarise.py RUN ...   (RUN = a folder or a .tar.gz from device-cut.sh, or a variant folder of
+sensitivity.sh, holding forces.dat and log.*).  Mean Fc, Ft and rake-face temperature after 10 % of the cut
 (examples/cutting-2d-ti6al4v/steady.py), the cut length reached, steps and loop time."""
 import io
 import os
@@ -10,9 +10,8 @@ import sys
 import tarfile
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "examples", "cutting-2d-ti6al4v"))
+from seed003 import EXP, steady_rows  # noqa: E402
 from steady import read_rows  # noqa: E402
-
-EXP = (157.5, 104.2)
 
 
 def files_of(run):
@@ -30,8 +29,7 @@ for run in sys.argv[1:]:
     with open(path, "w") as out:
         out.write(f["forces.dat"])
     rows = read_rows(path)
-    lmax = max(r[1] for r in rows)
-    sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+    lmax, sel = steady_rows(rows)
     fc, ft = (sum(r[k] for r in sel) / len(sel) for k in (2, 3))
     tr = sum(r[5] for r in sel) / len(sel)
     steps, loop = 0, 0.0

@@ -1,4 +1,5 @@
-# Sourced by the device scripts of bench/gpu (mechanics.sh, cutting.sh): environment, the
+# Sourced by the device scripts of bench/ (gpu/*.sh, cutting/device-cut.sh, cutting/sensitivity.sh
+# with DEVICE=1): environment, the
 # summary writer say(), the LAMMPS binary lmp(), run_modes() and build(), which builds Kokkos + LAMMPS with
 # CUDA and the plugin on the device machine from .carry/sphcut-sources.tar.gz (once per machine).
 # Expects ROOT.
@@ -16,9 +17,14 @@ GPU="${SPHCUT_GPU_ARGS:--k on g 1 -sf kk}"
 BIN="${SPHCUT_LMP:-$ROOT/build-cuda/lmp_sphcut}"    # (SPHCUT_LMP, SPHCUT_GPU_ARGS: to try the script elsewhere)
 lmp() { "$BIN" "$@"; }
 
+# the one device build of bench/ (gpu/*.sh, cutting/device-cut.sh, cutting/sensitivity.sh with
+# DEVICE=1): Kokkos (CUDA) + LAMMPS in $SPHCUT_CACHE and the plugin in build-cuda/, skipped when
+# build-cuda/lmp_sphcut exists; the plugin path exported for $BIN.  Its LAMMPS runs the CPU styles too
+# (without -k on; MPI on the machine's cores).
 build() {
+  export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
   [ -f "$BIN" ] && return 0
-  { nvidia-smi -L; nvcc --version | tail -2; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1
+  { nvidia-smi -L; nvcc --version | tail -2; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1 || true
   local t0; t0=$(date +%s)
   mkdir -p /tmp/sphcut-src && tar xzf "$ROOT/.carry/sphcut-sources.tar.gz" -C /tmp/sphcut-src
   bash "$ROOT/tools/build-deps.sh" --cuda --no-apt --sources /tmp/sphcut-src --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
@@ -27,6 +33,7 @@ build() {
   cmake -S "$ROOT" -B "$ROOT/build-cuda" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
     > "$OUT/plugin-build.log" 2>&1 && cmake --build "$ROOT/build-cuda" -j "$NJ" >> "$OUT/plugin-build.log" 2>&1 \
     || { tail -40 "$OUT/plugin-build.log"; exit 1; }
+  cp "$PREFIX/build-times.txt" "$OUT/build-times.txt" 2>/dev/null || true
   say "build: $(( $(date +%s) - t0 )) s (deps + plugin, $NJ jobs)"
 }
 
@@ -34,7 +41,6 @@ build() {
 # build, then the modes named on the command line (default: check), each a function of the script
 run_modes() {
   build
-  export LAMMPS_PLUGIN_PATH="${LAMMPS_PLUGIN_PATH:-$ROOT/build-cuda}"
   local mode
   for mode in "${@:-check}"; do
     say "== $mode ($(date -u +%H:%M:%S))"

@@ -4,34 +4,20 @@
 #      trimmed Debian sources made here with
 #        mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
 #   2. the sphcut plugin against that LAMMPS (the /kk registration compiled with nvcc_wrapper)
+#      (1 and 2: build() of bench/gpu/common.sh, the one device build)
 #   3. the LJ melt benchmark, 864,000 atoms: GPU (-k on g 1 -sf kk) and one CPU core
 # Results (timings, logs) go to $OUT (or ./gpu-out).
 # Usage on the device: bash bench/gpu/foundation.sh [steps_gpu] [steps_cpu]
 set -euo pipefail
-OUT="${OUT:-$PWD/gpu-out}"
-mkdir -p "$OUT"
+ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 STEPS_GPU="${1:-1000}"
 STEPS_CPU="${2:-20}"
-NJ=$(nproc)
-SRC=/tmp/sphcut-src
-export SPHCUT_CACHE=/tmp/sphcut-cache
-export CUDA_CACHE_MAXSIZE=4294967296      # room for the JIT-compiled sm_90 code (fix 5)
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-mkdir -p "$SRC"
-tar xzf .carry/sphcut-sources.tar.gz -C "$SRC"
+source "$ROOT/bench/gpu/common.sh"
+build
 { nvidia-smi -L; nvcc --version | tail -2; cmake --version | head -1; g++ --version | head -1; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1 || true
 
-t0=$(date +%s)
-bash tools/build-deps.sh --cuda --no-apt --sources "$SRC" --jobs "$NJ" 2>&1 | tee "$OUT/build-deps.log"
-PREFIX=$(bash tools/build-deps.sh --cuda --print-prefix)
-cp "$PREFIX/build-times.txt" "$OUT/build-times.txt" || true
-cmake -S . -B build-cuda -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF > "$OUT/plugin-build.log" 2>&1
-cmake --build build-cuda -j "$NJ" >> "$OUT/plugin-build.log" 2>&1
-t1=$(date +%s)
-echo "total build seconds: $((t1 - t0))" >> "$OUT/build-times.txt"
-
-LMP="$PREFIX/bin/lmp"
-cd bench/lj-melt
+LMP="$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)/bin/lmp"
+cd "$ROOT/bench/lj-melt"
 # warm-up run (not reported): fills the JIT cache, so the timed run's loop does not
 # include compiling the sm_80 PTX for the device; screen output kept for errors
 "$LMP" -k on g 1 -sf kk -in in.lj-melt -var x 3 -var y 3 -var z 3 -var steps 100 \
@@ -40,9 +26,8 @@ cd bench/lj-melt
   -log "$OUT/log.melt-gpu" > /tmp/screen-gpu.txt 2>&1 || { tail -30 /tmp/screen-gpu.txt; exit 1; }
 "$LMP" -in in.lj-melt -var x 3 -var y 3 -var z 3 -var steps "$STEPS_CPU" \
   -log "$OUT/log.melt-cpu1" > /tmp/screen-cpu1.txt 2>&1 || { tail -30 /tmp/screen-cpu1.txt; exit 1; }
-cd ../..
+cd "$ROOT"
 # plugin loads into the CUDA LAMMPS via the launcher
 printf 'plugin list\n' > /tmp/in.plugins
-LAMMPS_PLUGIN_PATH=$PWD/build-cuda build-cuda/lmp_sphcut -k on g 1 -sf kk -in /tmp/in.plugins -log none \
-  > "$OUT/plugin-list.txt" 2>&1 || true
-grep -h "Loop time" "$OUT"/log.melt-* | tee "$OUT/summary.txt"
+"$BIN" -k on g 1 -sf kk -in /tmp/in.plugins -log none > "$OUT/plugin-list.txt" 2>&1 || true
+grep -h "Loop time" "$OUT"/log.melt-* | tee -a "$SUM"

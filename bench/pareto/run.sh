@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # bench/pareto: run time against error (issue 14), one command:
 #   plate       examples/oscillating-plate: period of the 2D cantilever plate against beam
-#               theory (1 period), ny particles across = 7 11 15 21, cubic kernel (the
-#               example's settings) and Wendland C2 at 11 and 21 across;
+#               theory (PLATE_PERIODS, default 1), ny particles across = PLATE_NY (default
+#               7 11 15 21), cubic kernel (the example's settings) and Wendland C2 at 11 and 21
+#               across (PLATE_WENDLAND_NY); prints the cost per particle-step too;
 #   conduction  examples/thermal/in.conduction: sine decay on the unit square against the
 #               analytic solution, n x n = 11 21 41 81, FMFS (conservative, the default) and
 #               Brookshaw;
@@ -10,8 +11,8 @@
 #               80 us against the reference 21.47 mm, dx = 0.81 0.6 0.5 0.4 mm;
 #   cut         examples/cutting-2d-ti6al4v: the 2D Ti6Al4V cut at 11 across over 2 mm of
 #               cut (CUT_LEN=0.3e-3 for the quick case), steady Fc and Ft against the
-#               experiment (157.5, 104.2 N/mm) and against the finest run of the same contact
-#               model (21 across on one H100, 174.3 / 51.5 N/mm, recorded.csv).
+#               experiment (examples/cutting-2d-ti6al4v/seed003.py) and against the finest run
+#               of the same contact model (21 across on one H100, 174.3 / 51.5 N/mm, recorded.csv).
 # plate, conduction and taylor run on 1 core (1 MPI rank, OMP_NUM_THREADS=1), the cut on
 # 2 MPI ranks (CUT_NP, as the example), one case after the other.  Writes results.csv
 # (case, option, resolution, particles, steps, loop wall s, error %, platform, value,
@@ -54,17 +55,19 @@ trap 'rm -rf "$work"' EXIT
 
 if [ "$what" = plate ] || [ "$what" = all ]; then
   sed -i '/^plate,/d' "$csv"
+  periods=${PLATE_PERIODS:-1}
   for opt in cubic wendland; do
-    ladder="7 11 15 21"
-    [ $opt = wendland ] && ladder="11 21"
+    ladder=${PLATE_NY-7 11 15 21}
+    [ $opt = wendland ] && ladder=${PLATE_WENDLAND_NY-11 21}
     for ny in $ladder; do
       d="$work/plate-$opt-$ny"
       mkdir -p "$d" && cd "$d"
       sed "s/kernel cubic/kernel $opt/" "$root/examples/oscillating-plate/in.plate" > in.plate
-      $LMP -in in.plate -var ny "$ny" -var periods 1 -log log.plate > /dev/null
+      $LMP -in in.plate -var ny "$ny" -var periods "$periods" -log log.plate > /dev/null
       read -r wall steps atoms < <(loop_time log.plate)
       err=$(python3 "$root/examples/oscillating-plate/period.py" | awk '/SPH period/{gsub(/[()%+]/,"",$5); print $5}')
-      echo "plate,$opt,$ny,$atoms,$steps,$wall,$err,1 core,,beam theory,,$today" | tee -a "$csv"
+      us=$(awk -v w="$wall" -v a="$atoms" -v n="$steps" 'BEGIN{printf "%.3f", 1e6 * w / (a * n)}')
+      echo "plate,$opt,$ny,$atoms,$steps,$wall,$err,1 core,,beam theory,$periods period(s); $us us per particle-step,$today" | tee -a "$csv"
     done
   done
 fi
@@ -113,16 +116,15 @@ if [ "$what" = cut ] || [ "$what" = all ]; then
   # run of the same contact model (recorded.csv: 21 across, 2 mm, one H100)
   PYTHONPATH="$root/examples/cutting-2d-ti6al4v" python3 - "$res" "$atoms" "$steps" "$wall" "$np ranks (this VM)" "$today" <<'PY' | tee -a "$csv"
 import sys
+from seed003 import EXP_FC, EXP_FT, STEADY_FROM, steady_rows
 from steady import read_rows
 res, atoms, steps, wall, platform, src = sys.argv[1:]
-rows = read_rows("forces.dat")
-lmax = max(r[1] for r in rows)
-sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+lmax, sel = steady_rows(read_rows("forces.dat"))
 fc = sum(r[2] for r in sel) / len(sel)
 ft = sum(r[3] for r in sel) / len(sel)
-note = f"mean over {0.1 * lmax:.2f}-{lmax:.2f} mm"
-for name, val, ref, label in (("Fc vs experiment", fc, 157.5, "experiment 157.5"),
-                              ("Ft vs experiment", ft, 104.2, "experiment 104.2"),
+note = f"mean over {STEADY_FROM * lmax:.2f}-{lmax:.2f} mm"
+for name, val, ref, label in (("Fc vs experiment", fc, EXP_FC, f"experiment {EXP_FC}"),
+                              ("Ft vs experiment", ft, EXP_FT, f"experiment {EXP_FT}"),
                               ("Fc vs finest", fc, 174.3, "21 across H100 174.3"),
                               ("Ft vs finest", ft, 51.5, "21 across H100 51.5")):
     print(f"cut,{name},{res},{atoms},{steps},{wall},{100 * (val / ref - 1):.1f},{platform},{val:.1f},{label},{note},{src}")

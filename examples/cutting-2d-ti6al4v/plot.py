@@ -9,8 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-EXP_FC, EXP_FT = 157.5, 104.2        # N/mm, seed 003 Fig. 6 (experiment)
-SPH_FC, SPH_FT = 180.3, 89.0         # N/mm, the paper's SPH with the proposed thermal model, mu 0.35
+from seed003 import EXP_FC, EXP_FT, SPH_FC, SPH_FT    # N/mm: experiment, the paper's SPH (mu 0.35)
 
 
 def read_forces(path="forces.dat"):

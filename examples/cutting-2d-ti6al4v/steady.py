@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """Steady-state cutting forces: mean Fc and Ft after 10 % of the cut (as seed 003 does),
 printed beside the experiment and the paper's SPH results.  Reads forces.dat."""
-EXP = (157.5, 104.2)
-PAPER = {"SPH reference thermal model, mu 0.35": (177.8, 92.9),
-         "SPH proposed thermal model, mu 0.35": (180.3, 89.0),
-         "SPH proposed thermal model, mu 0.65": (185.0, 103.5)}
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from seed003 import EXP, LOWSPEED_T_EXP, LOWSPEED_T_PAPER, PAPER, steady_rows  # noqa: E402
 
 
 def read_rows(path="forces.dat"):
@@ -21,8 +22,7 @@ def read_rows(path="forces.dat"):
 
 def main(path="forces.dat", temperature_only=False):
     rows = read_rows(path)
-    lmax = max(r[1] for r in rows)
-    sel = [r for r in rows if r[1] >= 0.1 * lmax and r[1] > 0.0]
+    lmax, sel = steady_rows(rows)
     fc = sum(r[2] for r in sel) / len(sel)
     ft = sum(r[3] for r in sel) / len(sel)
     trake = sum(r[5] for r in sel) / len(sel) if len(sel[0]) > 5 else float("nan")
@@ -33,8 +33,8 @@ def main(path="forces.dat", temperature_only=False):
         end = [r[5] for r in rows if r[1] >= 0.9 * lmax] if len(sel[0]) > 5 else []
         tend = sum(end) / len(end) if end else float("nan")
         print(f"rake-face temperature {tend:.0f} K over the last 10 % of the cut ({0.9 * lmax:.3f}-{lmax:.3f} mm)")
-        print(f"mean rake-face temperature {trake:.0f} K (low-speed case vc 20 m/min: measured about 680 K, "
-              f"paper's SPH 744 K); Fc {fc:.1f} N/mm, Ft {ft:.1f} N/mm")
+        print(f"mean rake-face temperature {trake:.0f} K (low-speed case vc 20 m/min: measured about "
+              f"{LOWSPEED_T_EXP:.0f} K, paper's SPH {LOWSPEED_T_PAPER:.0f} K); Fc {fc:.1f} N/mm, Ft {ft:.1f} N/mm")
         return
     print(f"{'':44s} {'Fc [N/mm]':>10s} {'Ft [N/mm]':>10s}")
     print(f"{'sphcut':44s} {fc:10.1f} {ft:10.1f}   ({100*(fc/EXP[0]-1):+.0f} %, {100*(ft/EXP[1]-1):+.0f} %)")
@@ -45,5 +45,4 @@ def main(path="forces.dat", temperature_only=False):
 
 
 if __name__ == "__main__":
-    import sys
     main(temperature_only="--temperature" in sys.argv)

@@ -1,0 +1,38 @@
+"""The seed-003 cutting case's reference figures (Afrasiabi et al. 2021, ../../../shared/seeds/),
+in one place for the example's scripts and bench/ (steady.py, plot.py, bench/cutting/*.py,
+bench/pareto/run.sh, bench/cutting/sensitivity.sh), and the steady-state window they all use.
+The geometry and speed must match in.cutting (variables H and vc)."""
+
+# experiment, seed 003 Fig. 6: cutting and thrust force per mm of width [N/mm]
+EXP_FC, EXP_FT = 157.5, 104.2
+EXP = (EXP_FC, EXP_FT)
+# the paper's SPH results over 2 mm at 41 across [N/mm]
+PAPER = {"SPH reference thermal model, mu 0.35": (177.8, 92.9),
+         "SPH proposed thermal model, mu 0.35": (180.3, 89.0),
+         "SPH proposed thermal model, mu 0.65": (185.0, 103.5)}
+SPH_FC, SPH_FT = PAPER["SPH proposed thermal model, mu 0.35"]
+# low-speed case (sec. 5.2.2, vc 20 m/min, 0.3 mm of cut): rake-face temperature [K]
+LOWSPEED_T_EXP = 680.0      # measured, about
+LOWSPEED_T_PAPER = 744.0    # the paper's SPH
+# in.cutting's geometry and speed
+HEIGHT = 0.3e-3             # workpiece height [m]; particle spacing = HEIGHT / (ny - 1)
+VC = 318.5                  # cutting speed [m/min]
+RHO0 = 4430.0               # Ti6Al4V reference density [kg/m^3]
+STEADY_FROM = 0.1           # steady state: after this fraction of the cut (as seed 003)
+
+
+def spacing(ny):
+    """particle spacing [m] of in.cutting at ny particles across"""
+    return HEIGHT / (ny - 1)
+
+
+def steady_rows(rows):
+    """the rows of forces.dat (steady.read_rows) in the steady state: cut length >= 10 % of the
+    run's; returns (the run's cut length [mm], the selected rows)"""
+    lmax = max(r[1] for r in rows)
+    return lmax, [r for r in rows if r[1] >= STEADY_FROM * lmax and r[1] > 0.0]
+
+
+if __name__ == "__main__":    # for shell scripts: python3 seed003.py spacing NY | vc
+    import sys
+    print({"spacing": lambda: spacing(int(sys.argv[2])), "vc": lambda: VC}[sys.argv[1]]())
