@@ -23,15 +23,13 @@
 #ifndef SPHCUT_MODEL_H
 #define SPHCUT_MODEL_H
 
+#include "pointers.h"
 #include "sphcut_pair.h"
 
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <vector>
-
-namespace LAMMPS_NS {
-class LAMMPS;
-}
 
 namespace sphcut {
 
@@ -110,7 +108,8 @@ class Model {
 // implemented by the style that owns the model (pair sph/jc-thermal)
 class ModelOwner {
  public:
-  virtual ~ModelOwner() = default;
+  // the exception specification of LAMMPS' Pointers::~Pointers() (see sphcut::AttachedStyle)
+  virtual ~ModelOwner() noexcept(std::is_nothrow_destructible<LAMMPS_NS::Pointers>::value) {}
   virtual const Model &model() const = 0;
 };
 

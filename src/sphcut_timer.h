@@ -58,7 +58,8 @@ class AttachedStyle {
 // (the model, which the pair owns, is read the other way: sphcut::find_model, sphcut_model.h).
 class StateOwner {
  public:
-  virtual ~StateOwner() = default;
+  // the exception specification of LAMMPS' Pointers::~Pointers(), as AttachedStyle's
+  virtual ~StateOwner() noexcept(std::is_nothrow_destructible<LAMMPS_NS::Pointers>::value) {}
   virtual void attach(AttachedStyle *style) = 0;
   double **state = nullptr;    // per-atom state, one row per atom (local and ghost)
   int solidbit = 0;            // group bit of the SPH solid (the fix's group)
