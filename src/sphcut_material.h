@@ -148,7 +148,9 @@ SPHCUT_INLINE double tanh_softening_factor(const Material &mat, double eps, doub
   }
   const double u = pow(es, -mat.tanh_c);
   const double th = tanh(u);
-  *slope = -(1.0 - D) * (1.0 - th * th) * mat.tanh_c * u / es;    // d/deps, sech^2 = 1 - tanh^2
+  const double sech2 = 1.0 - th * th;
+  // d/deps; sech^2 = 0 where tanh is 1 in double precision (u may then be inf: no 0 * inf)
+  *slope = sech2 > 0.0 ? -(1.0 - D) * sech2 * mat.tanh_c * u / es : 0.0;
   return D + (1.0 - D) * th;
 }
 

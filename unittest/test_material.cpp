@@ -325,6 +325,11 @@ TEST(FlowTanh, SlopeIsTheDerivative)
         const double fd = (flow_hardening(mat, eps + h, T, &sp) - flow_hardening(mat, eps - h, T, &sm)) / (2.0 * h);
         EXPECT_NEAR(slope, fd, 1.0e-6 * (fabs(fd) + 1.0e6)) << "flow " << mat.flow << " eps " << eps << " T " << T;
       }
+  // first yield of a cold particle: (eps + S)^-c overflows, tanh is 1, the slope finite (0)
+  double slope = -1.0;
+  const double h0 = flow_hardening(ti64_tanh(), 0.0, 1.0e-37, &slope);    // S = 4e-202
+  EXPECT_EQ(h0, 862.0e6);
+  EXPECT_EQ(slope, 0.0);
 }
 
 // the radial return with the softening law: the consistency condition holds at the returned
