@@ -15,7 +15,7 @@
 #include "memory_kokkos.h"
 #include "neigh_list_kokkos.h"
 #include "neighbor.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 
 #include "sphcut_kernels.h"
@@ -92,7 +92,7 @@ template <class DeviceType> template <int DIM> void ComputeSurfaceLambdaKokkos<D
   const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
   auto o = k_out.template view<DeviceType>();
   auto tp = d_tp;
-  const int nt = atom->ntypes + 1, kern = pair->kernel(), gb = groupbit, hides = tool_hides;
+  const int nt = atom->ntypes + 1, kern = model->kernel(), gb = groupbit, hides = tool_hides;
   const int tb = fix->toolbit, cb = fix->clampbit, use_rmass = atom->rmass_flag;
   const double thr = threshold;
   using F = FixSPHJCThermal;

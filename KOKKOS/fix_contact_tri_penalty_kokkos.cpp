@@ -34,7 +34,7 @@
 #include "neigh_list_kokkos.h"
 #include "neighbor.h"
 #include "output.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 
 #include "sphcut_compat.h"
@@ -360,12 +360,12 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::upload(
   d_view.index = d_index.data();
   d_view.pnorm = bins.pnorm.empty() ? nullptr : d_pnorm.data();
   const int n = atom->ntypes + 1;
-  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "contact:mat");
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(model->materials(), n, "contact:mat");
   std::vector<double> h(n, 0.0), dp(n, 0.0), hij((size_t) n * n, 0.0);
   for (int i = 1; i < n; i++) {
-    h[i] = pair->smoothing_length(i);
-    dp[i] = pair->spacing(i);
-    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = pair->smoothing_length(i, j);
+    h[i] = model->smoothing_length(i);
+    dp[i] = model->spacing(i);
+    for (int j = 1; j < n; j++) hij[(size_t) i * n + j] = model->smoothing_length(i, j);
   }
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "contact:h");
   d_dp = sphcut::to_device<double, DeviceType>(dp.data(), n, "contact:dp");
@@ -456,7 +456,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.setup = update->setupflag;
   k.nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
   k.ntp = atom->ntypes + 1;
-  k.kernel = pair->kernel();
+  k.kernel = model->kernel();
   k.has_heat = heat != nullptr;
   k.tool_particles = tool_particles;
   k.lumped = tool_cp > 0.0;
@@ -578,7 +578,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   auto mat = d_mat;
   auto hij = d_hij;
   const int tb = toolbit, hb = heat->groupbit, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
-  const int kern = pair->kernel(), dim = domain->dimension;
+  const int kern = model->kernel(), dim = domain->dimension;
   const double acc = update->setupflag ? 0.0 : update->dt;
   auto qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
   Kokkos::parallel_for("sphcut:contact:tool_heat_gather",

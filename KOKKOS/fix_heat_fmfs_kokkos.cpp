@@ -25,7 +25,7 @@
 #include "fix_sph_jc_thermal_kokkos.h"
 #include "neigh_list_kokkos.h"
 #include "neighbor.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 
 #include "sphcut_compat.h"
@@ -111,9 +111,9 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
                  id_surface);
   }
   const int n = atom->ntypes + 1;
-  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "heat/fmfs:mat");
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(model->materials(), n, "heat/fmfs:mat");
   std::vector<double> h(n, 0.0);
-  for (int i = 1; i < n; i++) h[i] = pair->smoothing_length(i);
+  for (int i = 1; i < n; i++) h[i] = model->smoothing_length(i);
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
   d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "heat/fmfs:tp");
@@ -278,7 +278,7 @@ template <class DeviceType> HeatFMFSViews<DeviceType> FixHeatFMFSKokkos<DeviceTy
   d.tp = d_tp;
   d.fw = k_fwts.template view<DeviceType>();
   d.nt = atom->ntypes + 1;
-  d.kern = pair->kernel();
+  d.kern = model->kernel();
   d.gb = groupbit;
   d.use_rmass = atom->rmass_flag;
   return d;

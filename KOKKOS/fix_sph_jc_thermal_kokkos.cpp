@@ -40,7 +40,7 @@
 #include "memory_kokkos.h"
 #include "modify.h"
 #include "output.h"
-#include "pair_sph_jc_thermal.h"
+#include "pair.h"
 #include "update.h"
 
 #include "neigh_list_kokkos.h"
@@ -182,7 +182,7 @@ template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::setmask()
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
 {
   FixSPHJCThermal::init();
-  if (!pair->kokkosable)
+  if (!force->pair_match("^sph/jc-thermal", 0)->kokkosable)
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
   // the other sphcut styles read and write the state: under /kk only their /kk variants do that
   // on the device (a CPU variant would read a stale host copy)
@@ -211,9 +211,9 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::upload_tables()
 {
   const int n = atom->ntypes + 1;
-  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(pair->materials(), n, "sph/jc-thermal:mat");
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(model->materials(), n, "sph/jc-thermal:mat");
   std::vector<double> h(n, 0.0);
-  for (int t = 1; t < n; t++) h[t] = pair->smoothing_length(t);
+  for (int t = 1; t < n; t++) h[t] = model->smoothing_length(t);
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "sph/jc-thermal:h");
 }
 
@@ -280,6 +280,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::check_close_
 {
   const double frac = 0.5;
   double count = 0.0, rmin = 1.0e300;
+  Pair *pair = force->pair_match("^sph/jc-thermal", 0);
   if (pair->execution_space == execution_space && pair->list) {
     auto *kl = static_cast<NeighListKokkos<DeviceType> *>(pair->list);
     auto neighbors = kl->d_neighbors;
@@ -288,7 +289,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::check_close_
     auto x = atomKK->k_x.view<DeviceType>();
     auto type = atomKK->k_type.view<DeviceType>();
     std::vector<double> sp(atom->ntypes + 1, 0.0);
-    for (int t = 1; t <= atom->ntypes; t++) sp[t] = pair->spacing(t);
+    for (int t = 1; t <= atom->ntypes; t++) sp[t] = model->spacing(t);
     auto dp = sphcut::to_device<double, DeviceType>(sp.data(), atom->ntypes + 1, "sph/jc-thermal:dp");
     const int nlocal = atom->nlocal;
     // a full list sees each pair twice; a half list sees local-ghost pairs on both ranks without newton

@@ -158,19 +158,19 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
     error->all(FLERR, "Pair sph/jc-thermal/kk: neighbor list kind {} not supported (full, half, half/thread)",
                neighflag);
   sphcut::kokkos_list<DeviceType>(neighbor, neighflag == FULL);
-  if (hourglass > 0.0 && neighflag != FULL)
+  if (mdl.hourglass_coefficient() > 0.0 && neighflag != FULL)
     error->all(FLERR, "Pair sph/jc-thermal/kk: hourglass {} needs the full neighbor list (package kokkos neigh full)",
-               hourglass);
+               mdl.hourglass_coefficient());
   tables_ready = 0;    // init_one runs after this: the tables go to the device at the first compute
 }
 
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::upload_tables()
 {
   const int n = atom->ntypes + 1;
-  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(mat, n, "pair:mat");
+  d_mat = sphcut::to_device<sphcut::Material, DeviceType>(mdl.materials(), n, "pair:mat");
   std::vector<sphcut::TypePair> tp((size_t) n * n);
   for (int i = 1; i < n; i++)
-    for (int j = 1; j < n; j++) tp[(size_t) i * n + j] = tpair[i][j];
+    for (int j = 1; j < n; j++) tp[(size_t) i * n + j] = mdl.type_pair(i, j);
   d_tpair = sphcut::to_device<sphcut::TypePair, DeviceType>(tp.data(), n * n, "pair:tpair");
   tables_ready = 1;
 }
@@ -197,13 +197,13 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       k_acc = DAT::tdual_double_2d("pair:acc", nmax_kk, sphcut::NACC);
     }
   }
-  if (hourglass > 0.0 && (int) k_lgrad.extent(0) < nmax_kk) {
+  if (mdl.hourglass_coefficient() > 0.0 && (int) k_lgrad.extent(0) < nmax_kk) {
     memoryKK->destroy_kokkos(k_lgrad);
     k_lgrad = DAT::tdual_double_2d("pair:lgrad", nmax_kk, 9);
   }
   int any_as = 0;
   for (int t = 1; t <= atom->ntypes; t++)
-    if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
+    if (mdl.material(t).defined && mdl.material(t).as_eps > 0.0) any_as = 1;
 
   fixkk->k_state.template sync<DeviceType>();
   stress_pass(nall, any_as);
@@ -216,7 +216,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
       else neigh_pass<3, 0, 0>(inum, any_as);
     }
-    if (hourglass > 0.0) {
+    if (mdl.hourglass_coefficient() > 0.0) {
       // the hourglass control (sphcut::hourglass_pair): L of the local particles from the
       // neighbour pass, of the ghosts by forward communication, then the pairs again
       k_lgrad.template modify<DeviceType>();
@@ -271,7 +271,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
   auto pk = d_pack;
   auto mt = d_mat;
-  const int gb = fix->groupbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
+  const int gb = fix->solidbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
   const int use_rmass = atom->rmass_flag;
   using SL = StateLayout;
   Kokkos::parallel_for("sphcut:pair:stress_pass",
@@ -303,9 +303,9 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
   const NeighViews nv = neigh_views();
   auto accv = k_acc.template view<DeviceType>();
-  const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
+  const int kind = mdl.kernel(), corr = mdl.renormalised(), ntp = atom->ntypes + 1;
   const int nlocal = atom->nlocal;
-  const int hg = !HALF && hourglass > 0.0;
+  const int hg = !HALF && mdl.hourglass_coefficient() > 0.0;
 
   Kokkos::parallel_for("sphcut:pair:neigh_pass",
       sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
@@ -376,8 +376,8 @@ template <int DIM>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
 {
   const NeighViews nv = neigh_views();
-  const int kind = kernel_kind, corr = correction, ntp = atom->ntypes + 1;
-  const int hg = hourglass > 0.0;
+  const int kind = mdl.kernel(), corr = mdl.renormalised(), ntp = atom->ntypes + 1;
+  const int hg = mdl.hourglass_coefficient() > 0.0;
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   const int lanes = on_host ? 1 : (DIM == 2 ? TEAM_LANES_2D : TEAM_LANES_3D);
   const int per_team = on_host ? 1 : TEAM_THREADS / lanes;
@@ -425,8 +425,8 @@ template <int DIM>
 void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
 {
   const NeighViews nv = neigh_views();
-  const int kind = kernel_kind, ntp = atom->ntypes + 1;
-  const double kappa = hourglass;
+  const int kind = mdl.kernel(), ntp = atom->ntypes + 1;
+  const double kappa = mdl.hourglass_coefficient();
   using SL = StateLayout;
   Kokkos::parallel_for("sphcut:pair:hourglass_pass",
       sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
@@ -510,7 +510,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(
   auto pk = d_pack;
   auto accv = k_acc.template view<DeviceType>();
   auto mt = d_mat;
-  const int corr = correction, dim = domain->dimension;
+  const int corr = mdl.renormalised(), dim = domain->dimension;
   Kokkos::parallel_for("sphcut:pair:rates_pass",
       sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
         if (pk(i, PK_M) == 0.0) return;    // not in the SPH solid (stress pass)
@@ -544,7 +544,8 @@ void PairSPHJCThermalKokkos<DeviceType>::unpack_reverse_comm(int n, int *list, d
 
 template <class DeviceType> double PairSPHJCThermalKokkos<DeviceType>::memory_usage()
 {
-  return (double) nmax_kk * (NPK + (neighflag == FULL ? 0 : sphcut::NACC) + (hourglass > 0.0 ? 9 : 0)) * sizeof(double);
+  const int nhg = mdl.hourglass_coefficient() > 0.0 ? 9 : 0;
+  return (double) nmax_kk * (NPK + (neighflag == FULL ? 0 : sphcut::NACC) + nhg) * sizeof(double);
 }
 
 namespace LAMMPS_NS {

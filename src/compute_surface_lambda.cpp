@@ -20,7 +20,7 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 
 #include "sphcut_checks.h"
@@ -37,7 +37,7 @@ using namespace LAMMPS_NS;
 
 ComputeSurfaceLambda::ComputeSurfaceLambda(LAMMPS *lmp, int narg, char **arg) :
     Compute(lmp, narg, arg), threshold(0.75), every(1), tool_hides(1), last_step(-1), last_neigh(-1),
-    nmax(0), out(nullptr), list(nullptr), fix(nullptr), pair(nullptr)
+    nmax(0), out(nullptr), list(nullptr), fix(nullptr), model(nullptr)
 {
   int iarg = 3;
   while (iarg < narg) {
@@ -70,7 +70,7 @@ ComputeSurfaceLambda::~ComputeSurfaceLambda()
 
 void ComputeSurfaceLambda::init()
 {
-  fix = FixSPHJCThermal::require(lmp, "Compute surface/lambda", groupbit, group->names[igroup], &pair);
+  fix = FixSPHJCThermal::require(lmp, "Compute surface/lambda", groupbit, group->names[igroup], &model);
   fix->attach(this);
   // perpetual full list: the flags are needed every step by fix heat/fmfs
   sphcut::request_full_list(neighbor, this, instance_me, false, false);
@@ -79,7 +79,7 @@ void ComputeSurfaceLambda::init()
   for (int it = 1; it < nt; it++)
     for (int jt = 1; jt < nt; jt++)
       tpair[(size_t) it * nt + jt] =
-          sphcut::thermal_pair(pair->kernel(), domain->dimension, pair->smoothing_length(it, jt), 0.0, 0.0);
+          sphcut::thermal_pair(model->kernel(), domain->dimension, model->smoothing_length(it, jt), 0.0, 0.0);
 }
 
 void ComputeSurfaceLambda::init_list(int, NeighList *ptr)
@@ -135,7 +135,7 @@ template <int DIM> void ComputeSurfaceLambda::compute_dim()
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
-  const int kernel = pair->kernel(), nt = atom->ntypes + 1;
+  const int kernel = model->kernel(), nt = atom->ntypes + 1;
   const sphcut::ThermalPair *tp = tpair.data();
   using F = FixSPHJCThermal;
 

@@ -15,6 +15,7 @@ ComputeStyle(surface/lambda,ComputeSurfaceLambda);
 
 #include "compute.h"
 #include "sphcut_thermal.h"
+#include "sphcut_model.h"
 #include "sphcut_timer.h"
 
 #include <vector>
@@ -22,7 +23,6 @@ ComputeStyle(surface/lambda,ComputeSurfaceLambda);
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
-class PairSPHJCThermal;
 
 class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
  public:
@@ -58,7 +58,7 @@ class ComputeSurfaceLambda : public Compute, public sphcut::AttachedStyle {
   std::vector<sphcut::ThermalPair> tpair;
   class NeighList *list;
   FixSPHJCThermal *fix;
-  PairSPHJCThermal *pair;
+  const sphcut::Model *model;    // the model of pair sph/jc-thermal (sphcut::find_model)
   template <int DIM> void compute_dim();
   bool recompute_due();
 };

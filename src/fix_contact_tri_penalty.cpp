@@ -27,7 +27,7 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 #include "variable.h"
 
@@ -54,7 +54,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
     work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
     ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), nmax_out(0), qbuf(nullptr), nmax_buf(0),
-    list(nullptr), fix(nullptr), pair(nullptr)
+    list(nullptr), fix(nullptr), model(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
   for (int f = 0; f < NFEAT; f++)
@@ -353,13 +353,13 @@ double FixContactTriPenalty::contact_radius_max() const
 {
   double hmax = 0.0;
   for (int t = 1; t <= atom->ntypes; t++)
-    if (pair->materials()[t].defined) hmax = std::max(hmax, pair->smoothing_length(t));
+    if (model->materials()[t].defined) hmax = std::max(hmax, model->smoothing_length(t));
   return hmax;
 }
 
 void FixContactTriPenalty::init()
 {
-  fix = FixSPHJCThermal::require(lmp, "Fix contact/tri-penalty", groupbit, group->names[igroup], &pair);
+  fix = FixSPHJCThermal::require(lmp, "Fix contact/tri-penalty", groupbit, group->names[igroup], &model);
   fix->attach(this);
   heat = nullptr;
   if (!id_heat.empty()) {
@@ -394,7 +394,7 @@ void FixContactTriPenalty::init()
     int g[2], l[2] = {ttool, twork};
     MPI_Allreduce(l, g, 2, MPI_INT, MPI_MAX, world);
     if (!g[0] || !g[1]) error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool and workpiece particles");
-    const Material &mt = pair->materials()[g[0]], &mw = pair->materials()[g[1]];
+    const Material &mt = model->materials()[g[0]], &mw = model->materials()[g[1]];
     const double et = sqrt(mt.kappa * mt.rho0 * mt.cp), ew = sqrt(mw.kappa * mw.rho0 * mw.cp);
     if (et + ew <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: split auto needs k and cp of tool and workpiece");
     split = ew / (ew + et);
@@ -422,7 +422,7 @@ void FixContactTriPenalty::init()
     for (int i = 0; i < atom->nlocal; i++) {
       if (!(atom->mask[i] & groupbit) || (atom->mask[i] & toolbit) || fix->role_of(atom->mask[i]) == FixSPHJCThermal::TOOL) continue;
       const int it = atom->type[i];
-      const double h = pair->smoothing_length(it);
+      const double h = model->smoothing_length(it);
       const double *xi = atom->x[i];
       const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
       double d, n[3], q[3];
@@ -441,10 +441,10 @@ void FixContactTriPenalty::init()
 double FixContactTriPenalty::spring_dt_crit(int i) const
 {
   const int it = atom->type[i];
-  const double h = pair->smoothing_length(it);
+  const double h = model->smoothing_length(it);
   const double m = atom->rmass ? atom->rmass[i] : atom->mass[it];
-  const double dp = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
-  const double k = sphcut::penalty_stiffness(pair->materials()[it].E, etool, dp, pfac, domain->dimension);
+  const double dp = model->spacing(it) > 0.0 ? model->spacing(it) : h / sfac;
+  const double k = sphcut::penalty_stiffness(model->materials()[it].E, etool, dp, pfac, domain->dimension);
   return sphcut::penalty_dt_limit(k, m, dfac, 1.0);
 }
 
@@ -525,7 +525,7 @@ void FixContactTriPenalty::warn_inside()
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], domain->dimension == 2 ? 0.0 : x[i][2] - disp[2]};
-    const double h = pair->smoothing_length(atom->type[i]);
+    const double h = model->smoothing_length(atom->type[i]);
     const double d = sphcut::tool_signed_distance(bins, xt, 2.0 * h, scratch);
     if (d <= 1.0e-9 * h) {
       n[0] += 1.0;
@@ -601,7 +601,7 @@ void FixContactTriPenalty::post_force(int)
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   double **st = fix->state;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   const sphcut::TriBinView view = bins.view();
   const int dim = domain->dimension;
   const double dt = update->dt;
@@ -651,14 +651,14 @@ void FixContactTriPenalty::post_force(int)
     if (fmemory && !update->setupflag) sphcut::memory_friction_step(fm);
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const int it = type[i];
-    const double h = pair->smoothing_length(it);
+    const double h = model->smoothing_length(it);
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
     sphcut::ContactIn in = params;
     double qs[3];
     const int best = sphcut::tool_surface(view, xt, h, in.d, in.n, qs);
     if (best < 0) continue;
     const double mi = rmass ? rmass[i] : mass[it];
-    const double dpi = pair->spacing(it) > 0.0 ? pair->spacing(it) : h / sfac;
+    const double dpi = model->spacing(it) > 0.0 ? model->spacing(it) : h / sfac;
     if (sphcut::near_contact(in.d, h, sfac, atom->v[i], vtool, dim, dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
     if (0.5 * h / sfac - in.d <= 0.0) continue;
     // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
@@ -738,9 +738,9 @@ void FixContactTriPenalty::post_force(int)
         if (!(mask[j] & toolbit)) continue;
         double r2 = 0.0;
         for (int k = 0; k < 3; k++) r2 += (x[i][k] - x[j][k]) * (x[i][k] - x[j][k]);
-        const double hij = pair->smoothing_length(it, type[j]);
+        const double hij = model->smoothing_length(it, type[j]);
         if (r2 >= 4.0 * hij * hij) continue;
-        const double w = sphcut::kernel_w(pair->kernel(), dim, sqrt(r2), hij);
+        const double w = sphcut::kernel_w(model->kernel(), dim, sqrt(r2), hij);
         heat_w.push_back(w);
         heat_j.push_back(j);
         wsum += w;

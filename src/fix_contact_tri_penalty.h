@@ -17,6 +17,7 @@ FixStyle(contact/tri-penalty,FixContactTriPenalty);
 #include "fix.h"
 #include "sphcut_contact.h"
 #include "sphcut_stl.h"
+#include "sphcut_model.h"
 #include "sphcut_timer.h"
 
 #include <string>
@@ -25,7 +26,6 @@ FixStyle(contact/tri-penalty,FixContactTriPenalty);
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
-class PairSPHJCThermal;
 class FixHeatFMFS;
 
 class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
@@ -112,7 +112,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   int nmax_buf;
   class NeighList *list;
   FixSPHJCThermal *fix;
-  PairSPHJCThermal *pair;
+  const sphcut::Model *model;    // the model of pair sph/jc-thermal (sphcut::find_model)
 
   void load_geometry(const std::string &kind, const std::vector<std::string> &args);
   double friction_coefficient(double temp);

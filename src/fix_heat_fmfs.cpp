@@ -28,7 +28,7 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
-#include "pair_sph_jc_thermal.h"
+#include "sphcut_model.h"
 #include "update.h"
 
 #include "sphcut_checks.h"
@@ -58,7 +58,7 @@ static constexpr double THERMAL_CFL_MAX = 0.15;
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), scheme(FMFS), every(1), conservative(1), fwts(nullptr), nmax_fwts(0), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
     emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
-    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), pair(nullptr),
+    n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), model(nullptr),
     fuse_surface(false)
 {
   int iarg = 3;
@@ -151,7 +151,7 @@ int FixHeatFMFS::setmask()
 
 void FixHeatFMFS::init()
 {
-  fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &pair);
+  fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &model);
   fix->attach(this);
   // Dirichlet temperatures are imposed after the temperature update of that fix
   int ifix = -1, ime = -1, ninst = 0;
@@ -170,7 +170,7 @@ void FixHeatFMFS::init()
       error->all(FLERR, "Fix heat/fmfs: compute {} is not of style surface/lambda", id_surface);
     surface = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[ic]);
   }
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   for (int t = 1; t <= atom->ntypes; t++)
     if (mat[t].defined && mat[t].kappa > 0.0 && mat[t].cp <= 0.0)
       error->all(FLERR, "Fix heat/fmfs: atom type {} conducts (k > 0) but has no cp", t);
@@ -182,9 +182,9 @@ void FixHeatFMFS::init()
   hij.assign((size_t) nt * nt, 0.0);
   for (int it = 1; it < nt; it++)
     for (int jt = 1; jt < nt; jt++) {
-      hij[(size_t) it * nt + jt] = pair->smoothing_length(it, jt);
-      tpair[(size_t) it * nt + jt] = sphcut::thermal_pair(pair->kernel(), domain->dimension,
-                                                          pair->smoothing_length(it, jt), mat[it].kappa, mat[jt].kappa);
+      hij[(size_t) it * nt + jt] = model->smoothing_length(it, jt);
+      tpair[(size_t) it * nt + jt] = sphcut::thermal_pair(model->kernel(), domain->dimension,
+                                                          model->smoothing_length(it, jt), mat[it].kappa, mat[jt].kappa);
     }
 }
 
@@ -206,14 +206,14 @@ int FixHeatFMFS::dirichlet_of(int mask) const
 double FixHeatFMFS::dt_limit(double, double F) const
 {
   using F_ = FixSPHJCThermal;
-  if (!fix || !pair) return 1.0e300;
-  const Material *mat = pair->materials();
+  if (!fix || !model) return 1.0e300;
+  const Material *mat = model->materials();
   double dt = 1.0e300;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
     const int it = atom->type[i];
     dt = std::min(dt, sphcut::thermal_dt_limit(fix->state[i][F_::RHO], mat[it].cp, mat[it].kappa,
-                                               pair->smoothing_length(it), F, every));
+                                               model->smoothing_length(it), F, every));
   }
   return dt;
 }
@@ -334,8 +334,8 @@ template <int DIM> void FixHeatFMFS::conduction()
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
-  const Material *mat = pair->materials();
-  const int kernel = pair->kernel(), nt = atom->ntypes + 1;
+  const Material *mat = model->materials();
+  const int kernel = model->kernel(), nt = atom->ntypes + 1;
   const sphcut::HeatLosses hl = losses();
   using F = FixSPHJCThermal;
   double p_conv = 0.0, p_rad = 0.0;
@@ -405,7 +405,7 @@ int FixHeatFMFS::gather_support(int i, bool half)
 {
   const int *mask = atom->mask;
   const int *type = atom->type;
-  const int kernel = pair->kernel(), nt = atom->ntypes + 1;
+  const int kernel = model->kernel(), nt = atom->ntypes + 1;
   const sphcut::ThermalPair *tpi = tpair.data() + type[i] * nt;
   const double *pk = prow.data();
   const double *xi = pk + 5 * i;
@@ -470,7 +470,7 @@ template <class View> View FixHeatFMFS::support_view(int i, bool half)
 {
   const int n = gather_support(i, half);
   return View{n, nb_j.data(), nb_t.data(), nb_dx.data(), nb_wfac.data(), nb_ir2.data(),
-              tpair.data() + atom->type[i] * (atom->ntypes + 1), prow.data(), fwts, pair->materials(), atom->type};
+              tpair.data() + atom->type[i] * (atom->ntypes + 1), prow.data(), fwts, model->materials(), atom->type};
 }
 
 template <int DIM> void FixHeatFMFS::conduction_conservative()
@@ -494,7 +494,7 @@ template <int DIM> void FixHeatFMFS::scheme_pass()
 {
   const int *mask = atom->mask;
   const int *type = atom->type;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   using CS = ComputeSurfaceLambda;
   const bool fuse = fuse_surface;
   double **so = fuse ? surface->values() : nullptr;
@@ -533,7 +533,7 @@ template <int DIM> void FixHeatFMFS::exchange_pass()
   const double *rmass = atom->rmass;
   const double *mass = atom->mass;
   double **st = fix->state;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   const double *pk = prow.data();
   const sphcut::HeatLosses hl = losses();
   using F = FixSPHJCThermal;
@@ -600,7 +600,7 @@ double FixHeatFMFS::memory_usage()
 void FixHeatFMFS::add_heat(int i, double power)
 {
   if (i >= atom->nlocal || !(atom->mask[i] & groupbit)) return;
-  const Material &mt = pair->materials()[atom->type[i]];
+  const Material &mt = model->materials()[atom->type[i]];
   if (mt.cp <= 0.0) return;
   const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
   fix->state[i][FixSPHJCThermal::DTEMP] += power / (m * mt.cp);
@@ -621,7 +621,7 @@ void FixHeatFMFS::final_integrate()
 {
   using F = FixSPHJCThermal;
   if (dirichlet.empty()) return;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   for (int i = 0; i < atom->nlocal; i++) {
     const int k = dirichlet_of(atom->mask[i]);
     if (k < 0) continue;
@@ -657,9 +657,9 @@ double FixHeatFMFS::compute_vector(int n)
   else if (n == 2) loc = q_dirichlet;
   else if (n == 3) loc = q_sources;
   else if (n == 4) {
-    if (!fix || !pair)
+    if (!fix || !model)
       error->all(FLERR, "Fix heat/fmfs: the thermal energy (element 5) is available from the first run (or run 0) on");
-    const Material *mat = pair->materials();
+    const Material *mat = model->materials();
     for (int i = 0; i < atom->nlocal; i++) {
       if (!(atom->mask[i] & groupbit)) continue;
       const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];

@@ -18,6 +18,7 @@ FixStyle(heat/fmfs,FixHeatFMFS);
 
 #include "fix.h"
 #include "sphcut_thermal.h"
+#include "sphcut_model.h"
 #include "sphcut_timer.h"
 
 #include <vector>
@@ -25,7 +26,6 @@ FixStyle(heat/fmfs,FixHeatFMFS);
 namespace LAMMPS_NS {
 
 class FixSPHJCThermal;
-class PairSPHJCThermal;
 class ComputeSurfaceLambda;
 
 class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
@@ -81,7 +81,7 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   double p_conv_prev, p_rad_prev;            // loss rates of the previous step
   class NeighList *list;
   FixSPHJCThermal *fix;
-  PairSPHJCThermal *pair;
+  const sphcut::Model *model;    // the model of pair sph/jc-thermal (sphcut::find_model)
   int dirichlet_of(int mask) const;
   void check_timestep();
   template <int DIM> void conduction();

@@ -25,7 +25,7 @@
 #include "input.h"
 #include "memory.h"
 #include "modify.h"
-#include "pair_sph_jc_thermal.h"
+#include "pair.h"
 #include "update.h"
 #include "variable.h"
 
@@ -46,10 +46,12 @@ using sphcut::Material;
 /* ---------------------------------------------------------------------- */
 
 FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), state(nullptr), pair(nullptr)
+    Fix(lmp, narg, arg), model(nullptr)
 {
   if (narg < 3) error->all(FLERR, "Illegal fix sph/jc-thermal command: missing arguments");
 
+  state = nullptr;
+  solidbit = groupbit;
   toolbit = clampbit = 0;
   temp0 = -1.0;
   cfl = 0.0;
@@ -186,8 +188,7 @@ void FixSPHJCThermal::initialize_atom(int i)
 
 void FixSPHJCThermal::init()
 {
-  pair = dynamic_cast<PairSPHJCThermal *>(force->pair_match("^sph/jc-thermal", 0));
-  if (!pair) error->all(FLERR, "Fix sph/jc-thermal requires pair_style sph/jc-thermal");
+  model = &sphcut::require_model(lmp, "Fix sph/jc-thermal");
   if (!atom->rmass_flag && !atom->mass_setflag)
     error->all(FLERR, "Fix sph/jc-thermal: per-type masses are not set (use the mass command)");
   int count = 0;
@@ -207,10 +208,9 @@ void FixSPHJCThermal::init()
 /* ---------------------------------------------------------------------- */
 
 FixSPHJCThermal *FixSPHJCThermal::require(LAMMPS *lmp, const std::string &who, int groupbit,
-                                          const char *gname, PairSPHJCThermal **pair)
+                                          const char *gname, const sphcut::Model **model)
 {
-  *pair = dynamic_cast<PairSPHJCThermal *>(lmp->force->pair_match("^sph/jc-thermal", 0));
-  if (!*pair) lmp->error->all(FLERR, "{} requires pair_style sph/jc-thermal", who);
+  *model = &sphcut::require_model(lmp, who);
   FixSPHJCThermal *fix = nullptr;
   for (int i = 0; i < lmp->modify->nfix; i++)
     if (utils::strmatch(lmp->modify->fix[i]->style, "^sph/jc-thermal"))
@@ -251,7 +251,7 @@ void FixSPHJCThermal::setup_state()
   const int *mask = atom->mask;
   const int *type = atom->type;
   double **v = atom->v;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   int nfresh = 0;
 
   // initial temperature from an atom-style variable, for atoms that have none yet
@@ -315,7 +315,7 @@ void FixSPHJCThermal::report_default_temperature(const std::vector<bigint> &ntre
   for (size_t t = 1; t < all.size(); t++) {
     if (!all[t]) continue;
     n += all[t];
-    types += fmt::format("{}type {}: {:.6g}", types.empty() ? "" : ", ", t, pair->materials()[t].Tref);
+    types += fmt::format("{}type {}: {:.6g}", types.empty() ? "" : ", ", t, model->materials()[t].Tref);
   }
   if (n && comm->me == 0)
     utils::logmesg(lmp, "Fix heat/fmfs: no initial temperature given for {} particle(s) (fix sph/jc-thermal keyword "
@@ -350,7 +350,7 @@ void FixSPHJCThermal::initial_integrate(int)
   const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
@@ -371,7 +371,7 @@ void FixSPHJCThermal::final_integrate()
   const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
@@ -394,12 +394,12 @@ double FixSPHJCThermal::stable_dt()
   const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   double dtloc = 1.0e300;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     const int it = type[i];
-    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), pair->smoothing_length(it), v[i],
+    dtloc = std::min(dtloc, sphcut::particle_dt(mat[it], role_of(mask[i]), model->smoothing_length(it), v[i],
                                                     state[i][TEMP], cfl, vmax, tmax));
   }
   return finish_dt(dtloc);
@@ -451,7 +451,7 @@ double FixSPHJCThermal::worst_particle(const std::function<double(int, double *)
 void FixSPHJCThermal::report_runaway()
 {
   double **v = atom->v;
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   double info[6];    // tag, x, y, z, speed, limit
   const double worst = worst_particle(
       [&](int i, double *vals) {
@@ -483,7 +483,7 @@ void FixSPHJCThermal::report_runaway()
 // naming the hottest one against its limit; returns if there is none
 void FixSPHJCThermal::report_temperature()
 {
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   double info[6];    // tag, x, y, z, temperature, limit
   const double worst = worst_particle(
       [&](int i, double *vals) {
@@ -512,7 +512,7 @@ void FixSPHJCThermal::report_temperature()
 // least density relative to its rho0
 void FixSPHJCThermal::report_density()
 {
-  const Material *mat = pair->materials();
+  const Material *mat = model->materials();
   double info[6];    // tag, x, y, z, density, rho0
   worst_particle(
       [&](int i, double *vals) {
@@ -571,7 +571,7 @@ void FixSPHJCThermal::setup(int)
 
 void FixSPHJCThermal::check_close_pairs()
 {
-  sphcut::warn_close_pairs(lmp, pair);
+  sphcut::warn_close_pairs(lmp, force->pair_match("^sph/jc-thermal", 0)->list, *model);
 }
 
 void FixSPHJCThermal::attach(sphcut::AttachedStyle *style)

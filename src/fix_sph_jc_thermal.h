@@ -15,6 +15,7 @@ FixStyle(sph/jc-thermal,FixSPHJCThermal);
 #define LMP_FIX_SPH_JC_THERMAL_H
 
 #include "fix.h"
+#include "sphcut_model.h"
 #include "sphcut_solid.h"
 #include "sphcut_timer.h"
 
@@ -24,10 +25,12 @@ FixStyle(sph/jc-thermal,FixSPHJCThermal);
 
 namespace LAMMPS_NS {
 
-class PairSPHJCThermal;
-
-// the state columns (Column, Role, NCOL, NFORWARD, ...) are those of sphcut::StateLayout
-class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::AttachedStyle {
+// the state columns (Column, Role, NCOL, NFORWARD, ...) are those of sphcut::StateLayout; the
+// model (materials, smoothing lengths) is that of pair sph/jc-thermal, read through sphcut::Model
+class FixSPHJCThermal : public Fix,
+                        public sphcut::StateLayout,
+                        public sphcut::AttachedStyle,
+                        public sphcut::StateOwner {
  public:
   FixSPHJCThermal(class LAMMPS *, int, char **);
   ~FixSPHJCThermal() override;
@@ -58,21 +61,21 @@ class FixSPHJCThermal : public Fix, public sphcut::StateLayout, public sphcut::A
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
 
-  // interface for the pair style and the heat / contact fixes
-  double **state;             // per-atom state, NCOL columns (see Column)
-  int toolbit, clampbit;      // group bits of the tool and clamped particles
+  // interface for the pair style and the heat / contact fixes: state, toolbit, clampbit
+  // (sphcut::StateOwner): the per-atom state, NCOL columns (see Column), the group bits of the
+  // tool and clamped particles
   int role_of(int mask) const { return sphcut::role_from_mask(mask, toolbit, clampbit); }
   double dt_used() const { return dtv; }
   std::string timing_name() const override { return "fix sph/jc-thermal (integration)"; }
   // timing table: the styles that report their time (each attaches itself in its init)
-  void attach(sphcut::AttachedStyle *style);
-  // for the other sphcut styles: the pair style and this fix, or an error that names `who`
-  // (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
+  void attach(sphcut::AttachedStyle *style) override;
+  // for the other sphcut styles: the model (of the pair style) and this fix, or an error that
+  // names `who` (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
   static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
-                                  const char *gname, PairSPHJCThermal **pair);
+                                  const char *gname, const sphcut::Model **model);
 
  protected:
-  PairSPHJCThermal *pair;
+  const sphcut::Model *model;
   double dtv, dtf;
   double temp0;               // initial temperature (< 0: take Tref of the material)
   std::string temp_var;       // or an atom-style variable giving it

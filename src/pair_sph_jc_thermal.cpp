@@ -24,7 +24,7 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_sph_jc_thermal.h"
+#include "fix.h"
 #include "force.h"
 #include "memory.h"
 #include "modify.h"
@@ -35,7 +35,9 @@
 #include "sphcut_checks.h"
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
+#include "sphcut_model.h"
 #include "sphcut_pair.h"
+#include "sphcut_solid.h"
 #include "sphcut_timer.h"
 
 #include <cmath>
@@ -54,27 +56,18 @@ enum CommMode { COMM_ACC = 0, COMM_HG = 1 };
 // whether it is nonzero), one contiguous row instead of pieces of x, the state row, mask, type,
 // mass and the stresses
 enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_VOL = 8, PK_HASR = 9, PK_A = 10, PK_R = 16, NPK = 22 };
-static constexpr double UNSET = -1.0e300;
-// the material record of restart files written before the pressure cutoff pmin (its last field)
-static constexpr int MATSIZE_NO_PMIN = (int) offsetof(Material, pmin);
-static_assert(offsetof(Material, pmin) + sizeof(double) == sizeof(Material),
-              "pmin must stay the last field of Material (restart files of older versions)");
 
 /* ---------------------------------------------------------------------- */
 
 PairSPHJCThermal::PairSPHJCThermal(LAMMPS *lmp) :
-    Pair(lmp), mat(nullptr), hlen(nullptr), hdx(nullptr), wdp(nullptr), dp(nullptr), tpair(nullptr),
-    fix(nullptr), nmax(0), pack(nullptr), acc(nullptr), lgrad(nullptr), hgacc(nullptr), comm_mode(COMM_ACC),
-    restart_matsize((int) sizeof(Material))
+    Pair(lmp), fix(nullptr), nmax(0), pack(nullptr), acc(nullptr), lgrad(nullptr), hgacc(nullptr),
+    comm_mode(COMM_ACC)
 {
   restartinfo = 1;
   single_enable = 0;
   one_coeff = 0;
   comm_reverse = NREVERSE;
   comm_forward = 9;    // hourglass control: L of the ghosts
-  kernel_kind = sphcut::KERNEL_CUBIC;
-  correction = 1;
-  hourglass = 0.0;
 }
 
 PairSPHJCThermal::~PairSPHJCThermal()
@@ -82,12 +75,6 @@ PairSPHJCThermal::~PairSPHJCThermal()
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
-    memory->destroy(hlen);
-    memory->destroy(hdx);
-    memory->destroy(wdp);
-    memory->destroy(dp);
-    memory->destroy(tpair);
-    delete[] mat;
   }
   free_scratch();
 }
@@ -104,26 +91,17 @@ void PairSPHJCThermal::free_scratch()
 
 void PairSPHJCThermal::allocate()
 {
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
   allocated = 1;
   const int n = atom->ntypes;
   memory->create(setflag, n + 1, n + 1, "pair:setflag");
   memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
-  memory->create(hlen, n + 1, n + 1, "pair:h");
-  memory->create(hdx, n + 1, n + 1, "pair:hdx");
-  memory->create(wdp, n + 1, n + 1, "pair:wdp");
-  memory->create(dp, n + 1, "pair:dp");
-  memory->create(tpair, n + 1, n + 1, "pair:tpair");
-  mat = new Material[n + 1];
-  memset(mat, 0, (n + 1) * sizeof(Material));
-  for (int i = 0; i <= n; i++) {
-    dp[i] = 0.0;
-    for (int j = 0; j <= n; j++) {
-      setflag[i][j] = 0;
-      hlen[i][j] = 0.0;
-      hdx[i][j] = 0.0;
-      wdp[i][j] = 0.0;
-    }
-  }
+  for (int i = 0; i <= n; i++)
+    for (int j = 0; j <= n; j++) setflag[i][j] = 0;
+  if (mdl.ntypes() != n) mdl.allocate(n);
 }
 
 void PairSPHJCThermal::grow_scratch(int n)
@@ -133,208 +111,28 @@ void PairSPHJCThermal::grow_scratch(int n)
   free_scratch();
   memory->create(pack, nmax, NPK, "pair:pack");
   memory->create(acc, nmax, sphcut::NACC, "pair:acc");
-  if (hourglass > 0.0) {
+  if (mdl.hourglass_coefficient() > 0.0) {
     memory->create(lgrad, nmax, 9, "pair:lgrad");
     memory->create(hgacc, nmax, 4, "pair:hgacc");
   }
 }
 
 /* ----------------------------------------------------------------------
-   pair_style sph/jc-thermal [kernel cubic|wendland|hyperbolic] [correction yes|no]
-                             [hourglass kappa]
+   pair_style and pair_coeff: parsed by the model (sphcut::Model::settings, coeff);
+   setflag mirrors the pairs whose h or hdx pair_coeff gave
 ------------------------------------------------------------------------- */
 
 void PairSPHJCThermal::settings(int narg, char **arg)
 {
-  hourglass = 0.0;    // a repeated pair_style without the keyword switches it off
-  int iarg = 0;
-  while (iarg < narg) {
-    const std::string kw = arg[iarg];
-    if (iarg + 1 >= narg) error->all(FLERR, "Pair sph/jc-thermal: keyword {} needs a value", kw);
-    const std::string val = arg[iarg + 1];
-    if (kw == "kernel") {
-      if (val == "cubic") kernel_kind = sphcut::KERNEL_CUBIC;
-      else if (val == "wendland") kernel_kind = sphcut::KERNEL_WENDLAND;
-      else if (val == "hyperbolic") kernel_kind = sphcut::KERNEL_HYPERBOLIC;
-      else error->all(FLERR, "Pair sph/jc-thermal: unknown kernel {} (cubic, wendland, hyperbolic)", val);
-    } else if (kw == "correction") {
-      if (val == "yes") correction = 1;
-      else if (val == "no") correction = 0;
-      else error->all(FLERR, "Pair sph/jc-thermal: correction must be yes or no, got {}", val);
-    } else if (kw == "hourglass") {
-      hourglass = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-      if (hourglass < 0.0 || hourglass > 10.0)
-        error->all(FLERR, "Pair sph/jc-thermal: hourglass must be in [0,10], got {}", hourglass);
-    } else {
-      error->all(FLERR, "Pair sph/jc-thermal: unknown pair_style keyword {}", kw);
-    }
-    iarg += 2;
-  }
+  mdl.settings(lmp, narg, arg);
 }
-
-/* ----------------------------------------------------------------------
-   pair_coeff I J keyword value ...
-   material keywords set the material of the types t with t in I and J;
-   h / hdx set the smoothing length of every pair (I,J)
-------------------------------------------------------------------------- */
 
 void PairSPHJCThermal::coeff(int narg, char **arg)
 {
-  if (narg < 4) error->all(FLERR, "Pair sph/jc-thermal: pair_coeff needs I J and keyword/value pairs");
   if (!allocated) allocate();
-  int ilo, ihi, jlo, jhi;
-  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
-  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
-
-  // values not given stay UNSET so that defaults and mandatory checks can be applied
-  Material m;
-  double *fields[] = {&m.rho0, &m.E, &m.nu, &m.A, &m.B, &m.C, &m.n, &m.m, &m.epsdot0,
-                      &m.Tref, &m.Tmelt, &m.cp, &m.chi, &m.kappa, &m.av_alpha, &m.av_beta,
-                      &m.as_eps, &m.as_n, &m.xsph, &m.gamma0, &m.s_hug};
-  const char *names[] = {"rho0", "E", "nu", "A", "B", "C", "n", "m", "epsdot0", "Tref", "Tmelt",
-                         "cp", "chi", "k", "alpha", "beta", "as_eps", "as_n", "xsph", "gamma0", "s"};
-  const int nfields = sizeof(names) / sizeof(names[0]);
-  for (int k = 0; k < nfields; k++) *fields[k] = UNSET;
-  m.eos = sphcut::EOS_LINEAR;
-  m.pmin = 0.0;    // no pressure cutoff
-  double h = 0.0, hx = 0.0;
-  int nmat = 0;
-
-  int iarg = 2;
-  while (iarg < narg) {
-    const std::string kw = arg[iarg];
-    if (iarg + 1 >= narg) error->all(FLERR, "Pair sph/jc-thermal: pair_coeff keyword {} needs a value", kw);
-    const char *val = arg[iarg + 1];
-    if (kw == "h") {
-      h = utils::numeric(FLERR, val, false, lmp);
-      if (h <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: h must be > 0, got {}", h);
-    } else if (kw == "hdx") {
-      hx = utils::numeric(FLERR, val, false, lmp);
-      if (hx <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: hdx must be > 0, got {}", hx);
-    } else if (kw == "eos") {
-      const std::string e = val;
-      if (e == "linear") m.eos = sphcut::EOS_LINEAR;
-      else if (e == "mie-gruneisen") m.eos = sphcut::EOS_MIE_GRUNEISEN;
-      else error->all(FLERR, "Pair sph/jc-thermal: unknown eos {} (linear, mie-gruneisen)", e);
-      nmat++;
-    } else if (kw == "pmin") {
-      // tension cutoff of the pressure: a negative pressure, or none (the default)
-      const std::string v = val;
-      if (v == "none") m.pmin = 0.0;
-      else {
-        if (!utils::is_double(v))
-          error->all(FLERR, "Pair sph/jc-thermal: pmin must be a negative pressure or none, got {}", v);
-        m.pmin = utils::numeric(FLERR, val, false, lmp);
-        if (!(m.pmin < 0.0))
-          error->all(FLERR, "Pair sph/jc-thermal: pmin must be < 0 (a tensile pressure) or none, got {}", v);
-      }
-      nmat++;
-    } else {
-      int k = 0;
-      while (k < nfields && kw != names[k]) k++;
-      if (k == nfields) error->all(FLERR, "Pair sph/jc-thermal: unknown pair_coeff keyword {}", kw);
-      *fields[k] = utils::numeric(FLERR, val, false, lmp);
-      nmat++;
-    }
-    iarg += 2;
-  }
-
-  if (nmat) {
-    // mandatory values
-    const char *mandatory[] = {"rho0", "E", "nu"};
-    for (int k = 0; k < 3; k++)
-      if (*fields[k] == UNSET)
-        error->all(FLERR, "Pair sph/jc-thermal: material value {} is missing in pair_coeff {} {}",
-                   mandatory[k], arg[0], arg[1]);
-    if (m.rho0 <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: rho0 must be > 0, got {}", m.rho0);
-    if (m.E <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: E must be > 0, got {}", m.E);
-    if (m.nu <= -1.0 || m.nu >= 0.5)
-      error->all(FLERR, "Pair sph/jc-thermal: nu must be in (-1,0.5), got {}", m.nu);
-    m.plastic = m.A != UNSET;
-    if (m.plastic) {
-      if (m.B == UNSET) error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook value B is missing (A is given)");
-      if (m.n == UNSET) error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook value n is missing (A is given)");
-      if (m.A <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: A must be > 0, got {}", m.A);
-      if (m.B < 0.0) error->all(FLERR, "Pair sph/jc-thermal: B must be >= 0, got {}", m.B);
-      if (m.n <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: n must be > 0, got {}", m.n);
-      if (m.m != UNSET && (m.Tmelt == UNSET || m.Tref == UNSET))
-        error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook m needs Tref and Tmelt");
-    } else {
-      const char *jc[] = {"B", "C", "n", "m", "epsdot0"};
-      double *jcv[] = {&m.B, &m.C, &m.n, &m.m, &m.epsdot0};
-      for (int k = 0; k < 5; k++)
-        if (*jcv[k] != UNSET)
-          error->all(FLERR, "Pair sph/jc-thermal: Johnson-Cook value {} given without A", jc[k]);
-    }
-    if (m.eos == sphcut::EOS_MIE_GRUNEISEN && (m.gamma0 == UNSET || m.s_hug == UNSET))
-      error->all(FLERR, "Pair sph/jc-thermal: eos mie-gruneisen needs gamma0 and s");
-    if (m.eos != sphcut::EOS_MIE_GRUNEISEN && (m.gamma0 != UNSET || m.s_hug != UNSET))
-      error->all(FLERR, "Pair sph/jc-thermal: gamma0 and s are Mie-Grueneisen values (add eos mie-gruneisen)");
-    if (m.eos == sphcut::EOS_MIE_GRUNEISEN && m.gamma0 > 0.0 && (m.cp == UNSET || m.cp <= 0.0))
-      error->all(FLERR, "Pair sph/jc-thermal: eos mie-gruneisen with gamma0 > 0 needs cp (thermal pressure)");
-    if (m.C != UNSET && m.C < 0.0) error->all(FLERR, "Pair sph/jc-thermal: C must be >= 0, got {}", m.C);
-    if (m.m != UNSET && m.m <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: m must be > 0, got {}", m.m);
-    if (m.Tref != UNSET && m.Tref < 0.0) error->all(FLERR, "Pair sph/jc-thermal: Tref must be >= 0, got {}", m.Tref);
-    if (m.as_n != UNSET && m.as_n <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: as_n must be > 0, got {}", m.as_n);
-    // defaults
-    auto def = [](double &v, double d) { if (v == UNSET) v = d; };
-    def(m.B, 0.0);
-    def(m.C, 0.0);
-    def(m.n, 1.0);
-    def(m.m, 1.0);
-    def(m.epsdot0, 1.0);
-    def(m.Tref, 300.0);
-    def(m.Tmelt, 1.0e30);    // no thermal softening
-    def(m.cp, 0.0);
-    def(m.chi, 0.9);
-    def(m.kappa, 0.0);
-    def(m.av_alpha, 1.0);
-    def(m.av_beta, 1.0);
-    def(m.as_eps, 0.3);
-    def(m.as_n, 4.0);
-    def(m.xsph, 0.5);
-    def(m.gamma0, 0.0);
-    def(m.s_hug, 0.0);
-    if (m.epsdot0 <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: epsdot0 must be > 0, got {}", m.epsdot0);
-    if (m.Tmelt <= m.Tref)
-      error->all(FLERR, "Pair sph/jc-thermal: Tmelt {} must be above Tref {}", m.Tmelt, m.Tref);
-    if (m.cp < 0.0) error->all(FLERR, "Pair sph/jc-thermal: cp must be >= 0, got {}", m.cp);
-    if (m.chi < 0.0 || m.chi > 1.0) error->all(FLERR, "Pair sph/jc-thermal: chi must be in [0,1], got {}", m.chi);
-    if (m.kappa < 0.0) error->all(FLERR, "Pair sph/jc-thermal: k must be >= 0, got {}", m.kappa);
-    if (m.plastic && m.chi > 0.0 && m.cp == 0.0)
-      error->all(FLERR, "Pair sph/jc-thermal: cp is missing (needed for plastic heating with chi > 0; "
-                 "set chi 0 for an isothermal run)");
-    if (m.av_alpha < 0.0 || m.av_beta < 0.0)
-      error->all(FLERR, "Pair sph/jc-thermal: alpha and beta must be >= 0");
-    if (m.as_eps < 0.0) error->all(FLERR, "Pair sph/jc-thermal: as_eps must be >= 0, got {}", m.as_eps);
-    if (m.xsph < 0.0 || m.xsph > 1.0)
-      error->all(FLERR, "Pair sph/jc-thermal: xsph must be in [0,1], got {}", m.xsph);
-    sphcut::material_derive(m);
-    m.defined = 1;
-  }
-  if (h > 0.0 && hx > 0.0) error->all(FLERR, "Pair sph/jc-thermal: give either h or hdx, not both");
-
-  // material: the types t that lie in both ranges (the like pairs t,t)
-  int nlike = 0;
-  for (int t = std::max(ilo, jlo); t <= std::min(ihi, jhi); t++) {
-    if (nmat) mat[t] = m;
-    nlike++;
-  }
-  if (nmat && nlike == 0)
-    error->all(FLERR, "Pair sph/jc-thermal: material keywords need pair_coeff I I (or * *), got {} {}",
-               arg[0], arg[1]);
-  if (h > 0.0 || hx > 0.0) {
-    // pair_coeff 2 1 sets the pair (1,2)
-    for (int i = ilo; i <= ihi; i++)
-      for (int j = jlo; j <= jhi; j++) {
-        const int a = std::min(i, j), b = std::max(i, j);
-        hlen[a][b] = h;
-        hdx[a][b] = hx;
-        setflag[a][b] = 1;
-      }
-  } else if (!nmat) {
-    error->all(FLERR, "Pair sph/jc-thermal: pair_coeff {} {} sets nothing", arg[0], arg[1]);
-  }
+  mdl.coeff(lmp, narg, arg);
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = mdl.length_set(i, j) ? 1 : 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -344,10 +142,11 @@ void PairSPHJCThermal::init_style()
   fix = nullptr;
   for (int i = 0; i < modify->nfix; i++)
     if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
-      fix = dynamic_cast<FixSPHJCThermal *>(modify->fix[i]);
+      fix = dynamic_cast<sphcut::StateOwner *>(modify->fix[i]);
   if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
   fix->attach(this);
-  if (hourglass > 0.0 && !correction)
+  const double hourglass = mdl.hourglass_coefficient();
+  if (hourglass > 0.0 && !mdl.renormalised())
     error->all(FLERR, "Pair sph/jc-thermal: hourglass {} needs correction yes (the linear-field prediction "
                "uses the renormalised velocity gradient)", hourglass);
   // scratch arrays of the hourglass control: allocated with the others
@@ -367,21 +166,7 @@ void PairSPHJCThermal::init_style()
 
   // every particle has a mass > 0 (else NaN forces, or a misleading error about the spacing)
   sphcut::check_masses(lmp, "Pair sph/jc-thermal");
-
-  // particle spacing per type: (m / rho0)^(1/d), mass from mass or mean rmass
-  const int n = atom->ntypes;
-  const int dim = domain->dimension;
-  std::vector<double> msum(n + 1, 0.0), cnt(n + 1, 0.0), gsum(n + 1), gcnt(n + 1);
-  for (int i = 0; i < atom->nlocal; i++) {
-    msum[atom->type[i]] += atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-    cnt[atom->type[i]] += 1.0;
-  }
-  MPI_Allreduce(msum.data(), gsum.data(), n + 1, MPI_DOUBLE, MPI_SUM, world);
-  MPI_Allreduce(cnt.data(), gcnt.data(), n + 1, MPI_DOUBLE, MPI_SUM, world);
-  for (int t = 1; t <= n; t++) {
-    dp[t] = 0.0;
-    if (mat[t].defined && gcnt[t] > 0.0) dp[t] = pow(gsum[t] / gcnt[t] / mat[t].rho0, 1.0 / dim);
-  }
+  mdl.set_spacing(lmp);    // particle spacing per type, from the masses
   neighbor->request(this, instance_me);
 }
 
@@ -389,29 +174,7 @@ void PairSPHJCThermal::init_style()
 
 double PairSPHJCThermal::init_one(int i, int j)
 {
-  if (!mat[i].defined) error->all(FLERR, "Pair sph/jc-thermal: no material for atom type {} (pair_coeff {} {} rho0 ...)", i, i, i);
-  if (!mat[j].defined) error->all(FLERR, "Pair sph/jc-thermal: no material for atom type {} (pair_coeff {} {} rho0 ...)", j, j, j);
-  double dpij = 0.5 * (dp[i] + dp[j]);
-  if (!setflag[i][j]) {
-    // mix: mean of the like-type smoothing lengths
-    if (!setflag[i][i] || !setflag[j][j])
-      error->all(FLERR, "Pair sph/jc-thermal: smoothing length (h or hdx) not set for types {} {}", i, j);
-    const double hi = hdx[i][i] > 0.0 ? hdx[i][i] * dp[i] : hlen[i][i];
-    const double hj = hdx[j][j] > 0.0 ? hdx[j][j] * dp[j] : hlen[j][j];
-    hlen[i][j] = 0.5 * (hi + hj);
-    hdx[i][j] = 0.0;
-  } else if (hdx[i][j] > 0.0) {
-    if (dpij <= 0.0)
-      error->all(FLERR, "Pair sph/jc-thermal: hdx needs atoms of types {} {} to derive the spacing", i, j);
-    hlen[i][j] = hdx[i][j] * dpij;
-  }
-  if (hlen[i][j] <= 0.0) error->all(FLERR, "Pair sph/jc-thermal: smoothing length of types {} {} is not positive", i, j);
-  hlen[j][i] = hlen[i][j];
-  hdx[j][i] = hdx[i][j];
-  if (dpij <= 0.0) dpij = hlen[i][j] / 1.2;
-  wdp[i][j] = wdp[j][i] = sphcut::kernel_w(kernel_kind, domain->dimension, dpij, hlen[i][j]);
-  tpair[i][j] = tpair[j][i] = sphcut::mix_type_pair(mat[i], mat[j], hlen[i][j], wdp[i][j], kernel_kind, domain->dimension);
-  return sphcut::support_radius(hlen[i][j]);
+  return mdl.mix(lmp, i, j);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -431,9 +194,12 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
   const int nall = nlocal + atom->nghost;
   const int newton_pair = force->newton_pair;
   const int dim = domain->dimension;
-  const int groupbit = fix->groupbit;
+  const int groupbit = fix->solidbit, toolbit = fix->toolbit, clampbit = fix->clampbit;
   double **st = fix->state;
-  using F = FixSPHJCThermal;
+  using F = sphcut::StateLayout;
+  const Material *mat = mdl.materials();
+  const int correction = mdl.renormalised();
+  const double hourglass = mdl.hourglass_coefficient();
 
   grow_scratch(atom->nmax);
 
@@ -448,7 +214,7 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
       for (int k = 0; k < sphcut::NACC; k++) acc[i][k] = 0.0;
     double *p = pack[i];
     for (int a = 0; a < 3; a++) p[PK_X + a] = x[i][a];
-    if (!(mask[i] & groupbit) || fix->role_of(mask[i]) == F::TOOL) {
+    if (!(mask[i] & groupbit) || sphcut::role_from_mask(mask[i], toolbit, clampbit) == F::TOOL) {
       p[PK_M] = 0.0;
       continue;
     }
@@ -519,7 +285,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     const double *pi = pk[i];
     const double mi = pi[PK_M];
     if (mi == 0.0) continue;    // not in the SPH solid
-    const sphcut::TypePair *tpi = tpair[type[i]];
+    const sphcut::TypePair *tpi = mdl.type_pair_row(type[i]);
     const double vi = pi[PK_VOL];
     const double xi[3] = {pi[PK_X], pi[PK_X + 1], pi[PK_X + 2]};
     const double veli[3] = {pi[PK_V], pi[PK_V + 1], pi[PK_V + 2]};
@@ -558,7 +324,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
       if (!gather(j, pk[j])) continue;
-      sphcut::pair_scalars<DIM>(kernel_kind, in, nbr_s[npair]);
+      sphcut::pair_scalars<DIM>(mdl.kernel(), in, nbr_s[npair]);
       nbr_j[npair++] = j;
     }
 
@@ -602,7 +368,7 @@ void PairSPHJCThermal::hourglass_forces()
       for (int k = 0; k < 9; k++) lgrad[i][k] = 0.0;
       continue;
     }
-    sphcut::particle_velocity_gradient(dim, correction, acc[i], lgrad[i]);
+    sphcut::particle_velocity_gradient(dim, mdl.renormalised(), acc[i], lgrad[i]);
   }
   comm_mode = COMM_HG;
   sphcut::forward_comm(comm, this);
@@ -638,7 +404,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
     const double *pi = pk[i];
     const double mi = pi[PK_M];
     if (mi == 0.0) continue;
-    const sphcut::TypePair *tpi = tpair[type[i]];
+    const sphcut::TypePair *tpi = mdl.type_pair_row(type[i]);
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     sphcut::PairIn in;
@@ -655,9 +421,9 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
       sphcut::set_type_pair(tp, in);
       in.rho_j = pj[PK_RHO];
       double w, wfac;
-      sphcut::kernel_w_gradfac_pre(kernel_kind, sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
+      sphcut::kernel_w_gradfac_pre(mdl.kernel(), sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
       double Mg[3], work;
-      sphcut::hourglass_pair<DIM>(hourglass, in, wfac, lgrad[i], lgrad[j], Mg, work);
+      sphcut::hourglass_pair<DIM>(mdl.hourglass_coefficient(), in, wfac, lgrad[i], lgrad[j], Mg, work);
       const double mj = pj[PK_M], mm = mi * mj;
       for (int a = 0; a < DIM; a++) hi[a] += mm * Mg[a];
       hi[3] += mj * 0.5 * work;
@@ -717,80 +483,29 @@ void PairSPHJCThermal::unpack_forward_comm(int n, int first, double *buf)
 
 void PairSPHJCThermal::write_restart(FILE *fp)
 {
-  write_restart_settings(fp);
-  for (int i = 1; i <= atom->ntypes; i++) {
-    fwrite(&mat[i], sizeof(Material), 1, fp);
-    for (int j = i; j <= atom->ntypes; j++) {
-      fwrite(&setflag[i][j], sizeof(int), 1, fp);
-      if (setflag[i][j]) {
-        fwrite(&hlen[i][j], sizeof(double), 1, fp);
-        fwrite(&hdx[i][j], sizeof(double), 1, fp);
-      }
-    }
-  }
+  mdl.write_restart(fp);    // field by field, with a format version (sphcut::Model)
 }
 
 void PairSPHJCThermal::read_restart(FILE *fp)
 {
-  read_restart_settings(fp);
   allocate();
-  const int me = comm->me;
-  for (int i = 1; i <= atom->ntypes; i++) {
-    // an older file's shorter record leaves the fields after it (pmin) at 0 (allocate): no cutoff
-    if (me == 0) utils::sfread(FLERR, &mat[i], restart_matsize, 1, fp, nullptr, error);
-    MPI_Bcast(&mat[i], sizeof(Material), MPI_BYTE, 0, world);
-    for (int j = i; j <= atom->ntypes; j++) {
-      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
-      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
-      if (setflag[i][j]) {
-        if (me == 0) {
-          utils::sfread(FLERR, &hlen[i][j], sizeof(double), 1, fp, nullptr, error);
-          utils::sfread(FLERR, &hdx[i][j], sizeof(double), 1, fp, nullptr, error);
-        }
-        MPI_Bcast(&hlen[i][j], 1, MPI_DOUBLE, 0, world);
-        MPI_Bcast(&hdx[i][j], 1, MPI_DOUBLE, 0, world);
-      }
-    }
-  }
+  mdl.read_restart(lmp, fp);    // this format and the raw record of older files
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = mdl.length_set(i, j) ? 1 : 0;
 }
 
 void PairSPHJCThermal::write_restart_settings(FILE *fp)
 {
-  // a negative record size marks the settings with the hourglass coefficient (files written
-  // before it have the positive size and no coefficient: read as hourglass 0).  The record
-  // size itself tells the material layout: sizeof(Material), or MATSIZE_NO_PMIN for files
-  // written before the pressure cutoff (read as no cutoff)
-  const int matsize = -(int) sizeof(Material);
-  fwrite(&matsize, sizeof(int), 1, fp);
-  fwrite(&kernel_kind, sizeof(int), 1, fp);
-  fwrite(&correction, sizeof(int), 1, fp);
-  fwrite(&hourglass, sizeof(double), 1, fp);
+  mdl.write_settings(fp);
 }
 
 void PairSPHJCThermal::read_restart_settings(FILE *fp)
 {
-  int matsize = 0;
-  if (comm->me == 0) {
-    utils::sfread(FLERR, &matsize, sizeof(int), 1, fp, nullptr, error);
-    utils::sfread(FLERR, &kernel_kind, sizeof(int), 1, fp, nullptr, error);
-    utils::sfread(FLERR, &correction, sizeof(int), 1, fp, nullptr, error);
-    hourglass = 0.0;
-    if (matsize < 0) {
-      utils::sfread(FLERR, &hourglass, sizeof(double), 1, fp, nullptr, error);
-      matsize = -matsize;
-    }
-  }
-  MPI_Bcast(&matsize, 1, MPI_INT, 0, world);
-  if (matsize != (int) sizeof(Material) && matsize != MATSIZE_NO_PMIN)
-    error->all(FLERR, "Pair sph/jc-thermal: restart file written by another sphcut version "
-               "(material record {} bytes, this version {})", matsize, (int) sizeof(Material));
-  restart_matsize = matsize;
-  MPI_Bcast(&kernel_kind, 1, MPI_INT, 0, world);
-  MPI_Bcast(&correction, 1, MPI_INT, 0, world);
-  MPI_Bcast(&hourglass, 1, MPI_DOUBLE, 0, world);
+  int version;
+  mdl.read_settings(lmp, fp, version);
 }
 
 double PairSPHJCThermal::memory_usage()
 {
-  return (double) nmax * (NPK + sphcut::NACC + (hourglass > 0.0 ? 13 : 0)) * sizeof(double);
+  return (double) nmax * (NPK + sphcut::NACC + (mdl.hourglass_coefficient() > 0.0 ? 13 : 0)) * sizeof(double);
 }

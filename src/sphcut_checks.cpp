@@ -3,13 +3,13 @@
 ------------------------------------------------------------------------- */
 
 #include "sphcut_checks.h"
+#include "sphcut_model.h"
 
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
 #include "force.h"
 #include "neigh_list.h"
-#include "pair_sph_jc_thermal.h"
 
 #include <cerrno>
 #include <cmath>
@@ -72,9 +72,8 @@ void check_masses(LAMMPS *lmp, const char *who)
                   "(set it with the set command or in the data file)", who, nall, gfirst, gm);
 }
 
-bigint warn_close_pairs(LAMMPS *lmp, PairSPHJCThermal *pair, double frac)
+bigint warn_close_pairs(LAMMPS *lmp, NeighList *list, const Model &model, double frac)
 {
-  NeighList *list = pair->list;
   Atom *atom = lmp->atom;
   double count = 0.0, rmin = 1.0e300;
   if (list && list->ilist && list->numneigh && list->firstneigh) {
@@ -88,7 +87,7 @@ bigint warn_close_pairs(LAMMPS *lmp, PairSPHJCThermal *pair, double frac)
       const int *jl = list->firstneigh[i];
       for (int jj = 0; jj < list->numneigh[i]; jj++) {
         const int j = jl[jj] & NEIGHMASK;
-        const double dp = 0.5 * (pair->spacing(type[i]) + pair->spacing(type[j]));
+        const double dp = 0.5 * (model.spacing(type[i]) + model.spacing(type[j]));
         if (!(dp > 0.0)) continue;
         const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
         const double r = sqrt(dx * dx + dy * dy + dz * dz) / dp;

@@ -16,10 +16,11 @@
 
 namespace LAMMPS_NS {
 class LAMMPS;
-class PairSPHJCThermal;
+class NeighList;
 }    // namespace LAMMPS_NS
 
 namespace sphcut {
+class Model;
 
 // the value of an integer keyword, `text` the word as given: every sphcut style parses its
 // integer keywords here.  The whole word must be a decimal integer (an optional sign, digits)
@@ -35,10 +36,10 @@ int parse_int(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string 
 void check_masses(LAMMPS_NS::LAMMPS *lmp, const char *who);
 
 // pairs of particles closer than frac times their mean spacing (the pair style's
-// spacing(), from mass and rho0), counted once over all ranks, from the pair style's
+// Model::spacing, from mass and rho0), counted once over all ranks, from the pair style's
 // neighbour list; a warning with the count and the closest distance when there are any.
 // Returns the count (the same on every rank).
-LAMMPS_NS::bigint warn_close_pairs(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::PairSPHJCThermal *pair,
+LAMMPS_NS::bigint warn_close_pairs(LAMMPS_NS::LAMMPS *lmp, LAMMPS_NS::NeighList *list, const Model &model,
                                    double frac = 0.5);
 
 // the reduction and warning of warn_close_pairs, for drivers that count on their own (the /kk

@@ -13,6 +13,9 @@
 namespace sphcut {
 
 enum EosKind { EOS_LINEAR = 0, EOS_MIE_GRUNEISEN = 1 };
+// flow-stress law (pair_coeff keyword flow): a new law is a value here, a branch of
+// flow_hardening below and its keywords in sphcut::Model (the material table)
+enum FlowKind { FLOW_JC = 0, FLOW_TANH = 1 };
 
 // Plain-old-data material record, one per atom type (copyable to the device).
 struct Material {
@@ -33,9 +36,15 @@ struct Material {
   double as_eps, as_n;        // Gray-Monaghan artificial stress
   double xsph;                // XSPH epsilon
   // tensile failure (pair_coeff keyword pmin): the pressure is cut off at pmin < 0 (spall, as the
-  // pressure cutoff PC of LS-DYNA *MAT_JOHNSON_COOK, spall type 1); 0: no cutoff.  Last field:
-  // the restart reader takes the shorter record of older files (PairSPHJCThermal::read_restart)
+  // pressure cutoff PC of LS-DYNA *MAT_JOHNSON_COOK, spall type 1); 0: no cutoff
   double pmin;
+  // flow-stress law (keyword flow, FlowKind) and the parameters of the modified Johnson-Cook
+  // law with strain softening (flow tanh, Calamaz et al. 2008): a, b, c, d
+  int flow;
+  double tanh_a, tanh_b, tanh_c, tanh_d;
+  // Restart files store the record field by field, by name (sphcut::Model, the material table):
+  // the fields may be reordered or extended freely.  Only the fields up to pmin must keep their
+  // layout, that of the raw record of older files (sphcut::LegacyMaterial, sphcut_model.cpp).
 };
 
 SPHCUT_INLINE void material_derive(Material &mat)
@@ -120,6 +129,64 @@ SPHCUT_INLINE double jc_flow_stress(const Material &mat, double eps, double epsd
   return jc_hardening(mat, eps) * jc_rate_factor(mat, epsdot) * jc_thermal_factor(mat, T);
 }
 
+/* ---- modified Johnson-Cook with strain softening ("TANH", Calamaz, Coupard & Girot 2008,
+   Int. J. Mach. Tools Manuf. 48, 275; used for Ti6Al4V chip segmentation):
+     sigma_y = [A + B eps^n exp(-eps^a)] [1 + C ln(epsdot*)] [1 - T*^m]
+               [D + (1 - D) tanh(1 / (eps + S)^c)],   D = 1 - (T/Tmelt)^d,  S = (T/Tmelt)^b
+   (T and Tmelt absolute).  The rate and thermal factors are those of Johnson-Cook; the strain
+   factor h(eps, T) = [A + B eps^n exp(-eps^a)] [D + (1 - D) tanh((eps + S)^-c)] replaces
+   A + B eps^n.  For D = 1 (T << Tmelt with d large) and eps^a -> 0 it is Johnson-Cook.  */
+SPHCUT_INLINE double tanh_softening_factor(const Material &mat, double eps, double T, double *slope)
+{
+  const double tt = T > 0.0 ? T / mat.Tmelt : 0.0;
+  const double D = 1.0 - pow(tt, mat.tanh_d);
+  const double S = pow(tt, mat.tanh_b);
+  const double es = eps + S;
+  if (!(es > 0.0)) {    // eps = 0 at T = 0: tanh(inf) = 1
+    *slope = 0.0;
+    return 1.0;
+  }
+  const double u = pow(es, -mat.tanh_c);
+  const double th = tanh(u);
+  const double sech2 = 1.0 - th * th;
+  // d/deps; sech^2 = 0 where tanh is 1 in double precision (u may then be inf: no 0 * inf)
+  *slope = sech2 > 0.0 ? -(1.0 - D) * sech2 * mat.tanh_c * u / es : 0.0;
+  return D + (1.0 - D) * th;
+}
+
+/* ---- the strain factor of the selected law and its slope d/deps (for the Newton iteration
+   of the radial return): sigma_y = flow_hardening(eps, T) * jc_rate_factor * jc_thermal_factor.
+   Johnson-Cook: A + B eps^n, slope B n eps^(n-1) (huge at eps -> 0 for n < 1: capped at 1e30).
+   A new law: a FlowKind value, a branch here (value and slope) and its keywords.  */
+SPHCUT_INLINE double flow_hardening(const Material &mat, double eps, double T, double *slope)
+{
+  const double en = eps > 0.0 ? pow_exp(eps, mat.n) : 0.0;    // one pow for the value and its slope
+  if (mat.flow == FLOW_TANH) {
+    const double ea = eps > 0.0 ? pow(eps, mat.tanh_a) : 0.0;
+    const double soft = exp(-ea);
+    const double hard = mat.A + mat.B * en * soft;
+    // d/deps [B eps^n exp(-eps^a)] = B eps^n exp(-eps^a) (n - a eps^a) / eps
+    double dhard = eps > 0.0 ? mat.B * en * soft * (mat.n - mat.tanh_a * ea) / eps : 0.0;
+    if (!(fabs(dhard) < 1.0e30)) dhard = dhard < 0.0 ? -1.0e30 : 1.0e30;
+    double dg;
+    const double g = tanh_softening_factor(mat, eps, T, &dg);
+    *slope = dhard * g + hard * dg;
+    return hard * g;
+  }
+  const double hard = mat.A + mat.B * en;    // jc_hardening(mat, eps)
+  double dh = eps > 0.0 ? mat.B * mat.n * en / eps : 0.0;    // B n e^(n-1)
+  if (!(dh < 1.0e30)) dh = 1.0e30;
+  *slope = dh;
+  return hard;
+}
+
+// the flow stress of the material's law (Johnson-Cook: jc_flow_stress)
+SPHCUT_INLINE double flow_stress(const Material &mat, double eps, double epsdot, double T)
+{
+  double slope;
+  return flow_hardening(mat, eps, T, &slope) * jc_rate_factor(mat, epsdot) * jc_thermal_factor(mat, T);
+}
+
 /* ---- radial return ----------------------------------------------------
    s: trial deviatoric stress (Voigt, modified in place).  Solves
      f(d) = q_trial - 3 G d - sigma_y(eps + d, d/dt, T) = 0
@@ -128,12 +195,16 @@ SPHCUT_INLINE double jc_flow_stress(const Material &mat, double eps, double epsd
    receives the flow stress at the returned state.  d_guess > 0 (e.g. the
    increment of the last step, rescaled to this dt) starts the iteration
    there instead of at the perfectly plastic, rate-independent guess.
-   f is decreasing and, in x = ln d, concave (-3G e^x, the hardening and
-   the rate factor all bend it down), so a Newton step in x from the right
-   of the root (f < 0) stays right of it: where the Newton step in d leaves
-   the bracket (the usual case just after first yield, where the
+   sigma_y is that of the material's law (flow_hardening: the strain factor and
+   its slope, exact for every law).  Johnson-Cook: f is decreasing and, in x = ln d,
+   concave (-3G e^x, the hardening and the rate factor all bend it down), so a Newton
+   step in x from the right of the root (f < 0) stays right of it: where the Newton
+   step in d leaves the bracket (the usual case just after first yield, where the
    hardening slope n B eps^(n-1) is steep), the step in x, d exp(-f/(d f')),
-   replaces the bisection, which took 10 and more halvings there.  The
+   replaces the bisection, which took 10 and more halvings there.  A softening law
+   (flow tanh) need not keep f concave: every step is kept inside the bracket [lo, hi]
+   (f(lo) > 0 >= f(hi)) and bisects where neither Newton step lands in it, so the
+   iteration converges for any law with a continuous sigma_y.  The
    iteration ends when |f| <= 1e-12 q, when the bracket is narrower than
    1e-14 of its upper end, or when the Newton step is below 1e-6 of d: by quadratic convergence the error left after that step is
    of the order of 1e-12 d (times the relative curvature of f, below 1 on
@@ -143,31 +214,30 @@ SPHCUT_INLINE double radial_return(const Material &mat, double *s, double eps, d
 {
   const double q = von_mises(s);
   const double ft = jc_thermal_factor(mat, T);
-  // below A ft, below yield whatever the hardening (B >= 0): no pow needed unless sigy is asked for
-  if (!mat.plastic || (!sigy && mat.B >= 0.0 && q <= mat.A * ft)) {
+  // Johnson-Cook: below A ft, below yield whatever the hardening (B >= 0): no pow needed unless
+  // sigy is asked for (a softening law may yield below A ft)
+  if (!mat.plastic || (!sigy && mat.flow == FLOW_JC && mat.B >= 0.0 && q <= mat.A * ft)) {
     if (sigy) *sigy = jc_hardening(mat, eps) * ft;
     return 0.0;
   }
-  double y0 = jc_hardening(mat, eps) * ft;    // rate factor >= 1, so this is the lowest yield stress
+  double slope;
+  double y0 = flow_hardening(mat, eps, T, &slope) * ft;    // rate factor >= 1: the yield stress at this eps
   if (q <= y0) {
-    if (sigy) *sigy = y0;    // = jc_flow_stress(mat, eps, 0, T), the same products
+    if (sigy) *sigy = y0;    // = flow_stress(mat, eps, 0, T), the same products
     return 0.0;
   }
   const double G3 = 3.0 * mat.G;
   double lo = 0.0, hi = q / G3;    // f(lo) > 0, f(hi) = -sigma_y <= 0
-  double d = (q - y0) / G3;        // perfectly plastic, rate-independent guess: f(d) <= 0
+  double d = (q - y0) / G3;        // perfectly plastic, rate-independent guess: f(d) <= 0 (Johnson-Cook)
   if (d_guess > 0.0 && d_guess < hi) d = d_guess;
   for (int it = 0; it < 50; it++) {
-    const double e = eps + d;
-    const double en = e > 0.0 ? pow_exp(e, mat.n) : 0.0;    // one pow for the hardening and its slope
-    const double hard = mat.A + mat.B * en;                 // jc_hardening(mat, e)
+    double dh;
+    const double hard = flow_hardening(mat, eps + d, T, &dh);
     const double rate = jc_rate_factor(mat, d / dt);
     const double y = hard * rate * ft;
     const double f = q - G3 * d - y;
     if (f > 0.0) lo = d; else hi = d;
     if (fabs(f) <= 1.0e-12 * q) break;
-    double dh = e > 0.0 ? mat.B * mat.n * en / e : 0.0;    // B n e^(n-1)
-    if (!(dh < 1.0e30)) dh = 1.0e30;
     const double dr = (d / dt > mat.epsdot0 && d > 0.0) ? mat.C / d : 0.0;
     const double df = -G3 - ft * (dh * rate + hard * dr);
     double dn = d - f / df;

@@ -52,6 +52,20 @@ class AttachedStyle {
   double cpu_time = 0.0;
 };
 
+// the owner of the per-atom state (fix sph/jc-thermal) as the pair style sees it: the state
+// rows (sphcut::StateLayout columns), the groups that give a particle its role, and the timing
+// table to attach to.  The pair style reaches the fix through this, not through the fix's class
+// (the model, which the pair owns, is read the other way: sphcut::find_model, sphcut_model.h).
+class StateOwner {
+ public:
+  // the exception specification of LAMMPS' Pointers::~Pointers(), as AttachedStyle's
+  virtual ~StateOwner() noexcept(std::is_nothrow_destructible<LAMMPS_NS::Pointers>::value) {}
+  virtual void attach(AttachedStyle *style) = 0;
+  double **state = nullptr;    // per-atom state, one row per atom (local and ghost)
+  int solidbit = 0;            // group bit of the SPH solid (the fix's group)
+  int toolbit = 0, clampbit = 0;    // group bits of the tool and clamped particles
+};
+
 }    // namespace sphcut
 
 #endif

@@ -240,10 +240,10 @@ TEST(Hourglass, Restart)
   Lammps l;
   l.cmds({"read_restart hourglass.restart", "fix sph all sph/jc-thermal", "run 0"});
   auto *pair = static_cast<PairSPHJCThermal *>(l.lmp->force->pair);
-  EXPECT_EQ(pair->hourglass_coefficient(), 0.25);
+  EXPECT_EQ(pair->model().hourglass_coefficient(), 0.25);
   // a repeated pair_style without the keyword (LAMMPS keeps the instance) switches it off
   l.cmd("pair_style sph/jc-thermal");
-  EXPECT_EQ(static_cast<PairSPHJCThermal *>(l.lmp->force->pair)->hourglass_coefficient(), 0.0);
+  EXPECT_EQ(static_cast<PairSPHJCThermal *>(l.lmp->force->pair)->model().hourglass_coefficient(), 0.0);
 }
 
 // (one LAMMPS instance at a time: a second one loading the plugin replaces its styles)

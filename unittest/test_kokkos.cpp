@@ -135,6 +135,35 @@ TEST(Kokkos, PressureCutoffMatchesCpu)
   }
 }
 
+// the second flow-stress law (pair_coeff ... flow tanh, sphcut::flow_hardening) under /kk: the
+// collision with the softening law, full and half list against the CPU style; the law acts (the
+// state differs from the Johnson-Cook run by far more than the tolerance)
+TEST(Kokkos, FlowTanhMatchesCpu)
+{
+  auto run_flow = [&](const std::vector<std::string> &args, const std::string &newton, const std::string &flow) {
+    Lammps l(MPI_COMM_WORLD, args);
+    auto c = collision(newton, 2);
+    for (auto &line : c)
+      if (line.rfind("pair_coeff", 0) == 0) line += " " + flow;
+    l.cmds(c);
+    l.cmd("run 100");
+    return take(l);
+  };
+  const std::string tanh = "flow tanh a 2 b 5 c 2 d 1";
+  const Snapshot cpu = run_flow({}, "on", tanh);
+  expect_same(cpu, run_flow(KK_FULL, "off", tanh), "kk tanh");
+  expect_same(cpu, run_flow(KK_HALF, "on", tanh), "kk half tanh");
+  const Snapshot jc = run_flow({}, "on", "");
+  const int ncol = LAMMPS_NS::FixSPHJCThermal::NOUT, VM = LAMMPS_NS::FixSPHJCThermal::VM;
+  double diff = 0.0, scale = 0.0;
+  for (size_t i = 0; i < cpu.state.size() / ncol; i++) {
+    diff = std::max(diff, fabs(cpu.state[i * ncol + VM] - jc.state[i * ncol + VM]));
+    scale = std::max(scale, fabs(jc.state[i * ncol + VM]));
+  }
+  std::printf("[ flow tanh ] von Mises differs from flow jc by up to %.3g of its maximum\n", diff / scale);
+  EXPECT_GT(diff, 1e-2 * scale) << "the law changes the stress";
+}
+
 TEST(Kokkos, HalfListNewtonOnMatchesCpu2D)
 {
   expect_same(run({}, "on", 2, 100), run(KK_HALF, "on", 2, 100), "kk half");

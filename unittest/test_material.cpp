@@ -71,6 +71,24 @@ void random_deviator(std::mt19937 &gen, double q, double *s)
   for (int k = 0; k < 6; k++) s[k] *= q / vm;
 }
 
+// one radial return of a random trial deviator `over` times the yield stress at eps (the
+// material's law at the lowest rate): the trial and returned stress, q_trial, deps, sigy, y0
+struct TrialReturn {
+  double s[6], s0[6], q0, deps, sigy, y0;
+};
+
+TrialReturn trial_return(const Material &mat, std::mt19937 &gen, double eps, double T, double dt, double over,
+                         double guess = 0.0)
+{
+  TrialReturn r;
+  r.y0 = flow_stress(mat, eps, 0.0, T);
+  random_deviator(gen, over * r.y0, r.s);
+  for (int k = 0; k < 6; k++) r.s0[k] = r.s[k];
+  r.q0 = von_mises(r.s0);
+  r.deps = radial_return(mat, r.s, eps, T, dt, &r.sigy, guess);
+  return r;
+}
+
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -226,6 +244,124 @@ TEST(JohnsonCook, Limits)
   EXPECT_LT(jc_flow_stress(mat, 0.3, 10.0, 700.0), jc_flow_stress(mat, 0.3, 10.0, 600.0));
 }
 
+/* ---- modified Johnson-Cook with strain softening (flow tanh, Calamaz et al. 2008) ---- */
+
+// Ti6Al4V above with the softening parameters of Calamaz et al. (a 2, b 5, c 2, d 1)
+static Material ti64_tanh()
+{
+  Material mat = ti64();
+  mat.flow = FLOW_TANH;
+  mat.tanh_a = 2.0;
+  mat.tanh_b = 5.0;
+  mat.tanh_c = 2.0;
+  mat.tanh_d = 1.0;
+  return mat;
+}
+
+// the TANH law written out independently of the header:
+// [A + B eps^n exp(-eps^a)] [1 + C ln(epsdot)] [1 - T*^m] [D + (1 - D) tanh(1/(eps + S)^c)],
+// D = 1 - (T/Tmelt)^d, S = (T/Tmelt)^b
+static double tanh_reference(double eps, double epsdot, double T, double a = 2.0, double b = 5.0, double c = 2.0,
+                             double d = 1.0)
+{
+  const double hard = 862.0e6 + 331.0e6 * pow(eps, 0.35) / exp(pow(eps, a));
+  const double rate = epsdot > 1.0 ? 1.0 + 0.01 * log(epsdot) : 1.0;
+  const double ts = (T - 300.0) / (1878.0 - 300.0);
+  const double thermal = ts <= 0.0 ? 1.0 : 1.0 - pow(ts, 0.8);
+  const double D = 1.0 - pow(T / 1878.0, d), S = pow(T / 1878.0, b);
+  return hard * rate * thermal * (D + (1.0 - D) * tanh(1.0 / pow(eps + S, c)));
+}
+
+TEST(FlowTanh, StressMatchesHandComputedValues)
+{
+  const Material mat = ti64_tanh();
+  // worked values (mpmath, 30 digits)
+  EXPECT_NEAR(flow_stress(mat, 0.5, 1.0e4, 600.0), 854092249.28891978621, 1.0e-12 * 854092249.29);
+  EXPECT_NEAR(flow_stress(mat, 1.5, 1.0e5, 900.0), 387441300.69192132772, 1.0e-12 * 387441300.69);
+  EXPECT_NEAR(flow_stress(mat, 0.05, 10.0, 1200.0), 361952733.61865684046, 1.0e-12 * 361952733.62);
+  for (double eps : {0.0, 0.01, 0.3, 1.0, 3.0})
+    for (double epsdot : {0.5, 1.0e3, 1.0e6})
+      for (double T : {300.0, 700.0, 1500.0}) {
+        const double ref = tanh_reference(eps, epsdot, T);
+        EXPECT_NEAR(flow_stress(mat, eps, epsdot, T), ref, 1.0e-12 * ref)
+            << "eps " << eps << " epsdot " << epsdot << " T " << T;
+      }
+  // softening: beyond the peak the stress falls with strain, and more so when hot
+  EXPECT_LT(flow_stress(mat, 2.0, 1.0e3, 700.0), flow_stress(mat, 0.5, 1.0e3, 700.0));
+  EXPECT_LT(flow_stress(mat, 1.0, 1.0e3, 1200.0) / jc_flow_stress(mat, 1.0, 1.0e3, 1200.0),
+            flow_stress(mat, 1.0, 1.0e3, 600.0) / jc_flow_stress(mat, 1.0, 1.0e3, 600.0));
+  // flow jc (the default): flow_stress is jc_flow_stress, to the bit
+  const Material jc = ti64();
+  for (double eps : {0.0, 0.2, 1.5})
+    EXPECT_EQ(flow_stress(jc, eps, 1.0e4, 600.0), jc_flow_stress(jc, eps, 1.0e4, 600.0));
+}
+
+// softening off: d large makes D = 1 (no temperature-dependent softening), a large makes
+// eps^a vanish for eps < 1 (no strain softening of the hardening term): Johnson-Cook
+TEST(FlowTanh, LimitIsJohnsonCook)
+{
+  Material mat = ti64_tanh();
+  mat.tanh_a = 1.0e3;
+  mat.tanh_d = 1.0e3;
+  const Material jc = ti64();
+  for (double eps : {0.0, 0.05, 0.3, 0.7})
+    for (double T : {300.0, 600.0, 900.0}) {
+      const double ref = jc_flow_stress(jc, eps, 1.0e4, T);
+      EXPECT_NEAR(flow_stress(mat, eps, 1.0e4, T), ref, 1.0e-15 * ref) << "eps " << eps << " T " << T;
+    }
+  // and the softening acts when it is on: 20 % and more below Johnson-Cook at eps 1.5, 900 K
+  EXPECT_LT(flow_stress(ti64_tanh(), 1.5, 1.0e4, 900.0), 0.8 * jc_flow_stress(jc, 1.5, 1.0e4, 900.0));
+}
+
+// the slope that the radial return's Newton iteration uses is the derivative of the strain factor
+TEST(FlowTanh, SlopeIsTheDerivative)
+{
+  for (const Material &mat : {ti64(), ti64_tanh()})
+    for (double eps : {0.01, 0.2, 0.8, 1.5, 3.0})
+      for (double T : {300.0, 900.0, 1500.0}) {
+        double slope, sp, sm;
+        flow_hardening(mat, eps, T, &slope);
+        const double h = 1.0e-6 * eps;
+        const double fd = (flow_hardening(mat, eps + h, T, &sp) - flow_hardening(mat, eps - h, T, &sm)) / (2.0 * h);
+        EXPECT_NEAR(slope, fd, 1.0e-6 * (fabs(fd) + 1.0e6)) << "flow " << mat.flow << " eps " << eps << " T " << T;
+      }
+  // first yield of a cold particle: (eps + S)^-c overflows, tanh is 1, the slope finite (0)
+  double slope = -1.0;
+  const double h0 = flow_hardening(ti64_tanh(), 0.0, 1.0e-37, &slope);    // S = 4e-202
+  EXPECT_EQ(h0, 862.0e6);
+  EXPECT_EQ(slope, 0.0);
+}
+
+// the radial return with the softening law: the consistency condition holds at the returned
+// state, also where the law softens (eps beyond the peak, hot)
+TEST(FlowTanh, RadialReturnConverges)
+{
+  const Material mat = ti64_tanh();
+  std::mt19937 gen(21);
+  for (double dt : {1.0e-9, 1.0e-6})
+    for (double eps : {0.0, 0.05, 0.8, 2.0})
+      for (double T : {300.0, 900.0, 1500.0})
+        for (double over : {1.0001, 1.05, 1.5, 3.0}) {
+          const TrialReturn r = trial_return(mat, gen, eps, T, dt, over, over > 1.4 ? 1.0e-3 : 0.0);
+          const double q0 = r.q0, deps = r.deps, sigy = r.sigy;
+          ASSERT_GT(deps, 0.0);
+          const double sy = flow_stress(mat, eps + deps, deps / dt, T);
+          EXPECT_NEAR(q0 - 3.0 * mat.G * deps, sy, 1.0e-9 * sy)
+              << "dt " << dt << " eps " << eps << " T " << T << " over " << over;
+          EXPECT_NEAR(von_mises(r.s), sy, 1.0e-9 * sy);
+          EXPECT_NEAR(sigy, sy, 1.0e-9 * sy);
+        }
+  // below the (softened) yield stress: elastic, and the yield stress reported is the law's
+  double s[6], sigy;
+  random_deviator(gen, 0.99 * flow_stress(mat, 2.0, 0.0, 900.0), s);
+  EXPECT_EQ(radial_return(mat, s, 2.0, 900.0, 1.0e-9, &sigy), 0.0);
+  EXPECT_DOUBLE_EQ(sigy, flow_stress(mat, 2.0, 0.0, 900.0));
+  // ... which lies below A (1 - T*^m): the Johnson-Cook shortcut must not apply to it
+  EXPECT_LT(flow_stress(mat, 2.0, 0.0, 900.0), 862.0e6 * jc_thermal_factor(mat, 900.0));
+  random_deviator(gen, 0.5 * (flow_stress(mat, 2.0, 0.0, 900.0) + 862.0e6 * jc_thermal_factor(mat, 900.0)), s);
+  EXPECT_GT(radial_return(mat, s, 2.0, 900.0, 1.0e-9, nullptr), 0.0);
+}
+
 /* ---- radial return --------------------------------------------------- */
 
 // elastic trial state (von Mises below yield): stress unchanged, no plastic strain
@@ -281,12 +417,8 @@ TEST(RadialReturn, HardeningAndRateConsistency)
   for (double eps : {0.0, 0.05, 0.8})
     for (double T : {300.0, 700.0})
       for (double over : {1.0001, 1.05, 1.5, 3.0}) {
-        double s[6], s0[6], sigy;
-        const double y0 = jc_flow_stress(mat, eps, 0.0, T);
-        random_deviator(gen, over * y0, s);
-        for (int k = 0; k < 6; k++) s0[k] = s[k];
-        const double q0 = von_mises(s0);
-        const double deps = radial_return(mat, s, eps, T, dt, &sigy);
+        const TrialReturn r = trial_return(mat, gen, eps, T, dt, over);    // flow jc: jc_flow_stress
+        const double *s = r.s, *s0 = r.s0, q0 = r.q0, deps = r.deps, sigy = r.sigy, y0 = r.y0;
         ASSERT_GT(deps, 0.0);
         const double sy = jc_flow_stress(mat, eps + deps, deps / dt, T);
         EXPECT_NEAR(q0 - 3.0 * mat.G * deps, sy, 1.0e-9 * sy)

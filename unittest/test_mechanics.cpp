@@ -268,14 +268,14 @@ TEST(PressureCutoff, Restart)
   Lammps l;
   l.cmds({"read_restart pmin.restart", "fix sph all sph/jc-thermal", "run 0 post no"});
   auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
-  EXPECT_EQ(pair->materials()[1].pmin, -2.5e9);
-  EXPECT_EQ(pair->materials()[1].rho0, 7800.0);
+  EXPECT_EQ(pair->model().materials()[1].pmin, -2.5e9);
+  EXPECT_EQ(pair->model().materials()[1].rho0, 7800.0);
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 pmin none");
-  EXPECT_EQ(pair->materials()[1].pmin, 0.0);
+  EXPECT_EQ(pair->model().materials()[1].pmin, 0.0);
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 pmin -3e9");
-  EXPECT_EQ(pair->materials()[1].pmin, -3e9);
+  EXPECT_EQ(pair->model().materials()[1].pmin, -3e9);
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3");
-  EXPECT_EQ(pair->materials()[1].pmin, 0.0);
+  EXPECT_EQ(pair->model().materials()[1].pmin, 0.0);
 }
 
 /* a restart file of a version before pmin (its material record ends before pmin, the last field)
@@ -315,13 +315,13 @@ TEST(PressureCutoff, OlderRestartReadsAsNoCutoff)
     fp = fopen("pmin-old.restart", "rb");
     pair->read_restart(fp);
     fclose(fp);
-    const sphcut::Material &m = pair->materials()[1];
+    const sphcut::Material &m = pair->model().materials()[1];
     EXPECT_EQ(m.rho0, 4430.0);
     EXPECT_EQ(m.nu, 0.342);
     EXPECT_EQ(m.xsph, 0.5);
     EXPECT_EQ(m.pmin, 0.0) << "older file: no cutoff";
-    EXPECT_EQ(pair->hourglass_coefficient(), 0.1);
-    EXPECT_EQ(pair->smoothing_length(1, 1), 1.3e-5);
+    EXPECT_EQ(pair->model().hourglass_coefficient(), 0.1);
+    EXPECT_EQ(pair->model().smoothing_length(1, 1), 1.3e-5);
   }
   // a record neither of this version nor of the one before
   Lammps l2;
@@ -337,6 +337,136 @@ TEST(PressureCutoff, OlderRestartReadsAsNoCutoff)
   }
   fclose(fp);
   EXPECT_TRUE(refused);
+}
+
+/* a restart file written by main 863d4de (format 1: the raw material record; its input is
+   unittest/data/main-863d4de.in) reads with every value (two materials, one plastic with pmin,
+   one Mie-Grueneisen; h of the mixed pair; hourglass) and continues as main continued the same
+   run in one process (values printed there with %.17g). */
+TEST(RestartFormat, FileOfMainReads)
+{
+  Lammps l;
+#ifdef SPHCUT_TEST_KOKKOS
+  l.cmd("package kokkos neigh full newton off");    // the hourglass control of /kk needs the full list
+#endif
+  l.cmd(std::string("read_restart ") + SPHCUT_SOURCE_DIR + "/unittest/data/main-863d4de.restart");
+  l.cmd("fix sph all sph/jc-thermal temp 320");
+  auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
+  const sphcut::Material &m1 = pair->model().materials()[1], &m2 = pair->model().materials()[2];
+  EXPECT_EQ(m1.A, 862e6);
+  EXPECT_EQ(m1.n, 0.34);
+  EXPECT_EQ(m1.Tmelt, 1878.0);
+  EXPECT_EQ(m1.kappa, 7.0);
+  EXPECT_EQ(m1.pmin, -5e9);
+  EXPECT_EQ(m1.flow, sphcut::FLOW_JC);
+  EXPECT_EQ(m1.plastic, 1);
+  EXPECT_EQ(m2.plastic, 0);
+  EXPECT_EQ(m2.eos, sphcut::EOS_MIE_GRUNEISEN);
+  EXPECT_EQ(m2.gamma0, 1.23);
+  EXPECT_EQ(m2.pmin, 0.0);
+  EXPECT_EQ(pair->model().hourglass_coefficient(), 0.1);
+  l.cmds({"variable x5 equal x[5]", "variable y5 equal y[5]", "variable x17 equal x[17]",
+          "variable vy17 equal vy[17]", "variable eps17 equal f_sph[17][10]", "variable t17 equal f_sph[17][12]",
+          "variable p5 equal f_sph[5][2]", "thermo 10", "run 20"});
+  EXPECT_NEAR(pair->model().smoothing_length(1, 2), 1.4e-4, 1e-20);
+  const std::vector<std::pair<std::string, double>> ref = {
+      {"v_x5", 9.6280835847073406e-05},    {"v_y5", -0.000207177163227193},  {"v_x17", -9.6334140016671803e-05},
+      {"v_vy17", 3.1775873439857101},      {"v_eps17", 0.034000865145451503}, {"v_t17", 332.296413292046},
+      {"v_p5", 1026044670.34173}};
+  for (const auto &r : ref) EXPECT_NEAR(l.equal(r.first), r.second, 1e-10 * fabs(r.second)) << r.first;
+  std::printf("[ main file ] x5 %.3e rel, eps17 %.3e rel, p5 %.3e rel\n",
+              fabs(l.equal("v_x5") / ref[0].second - 1.0), fabs(l.equal("v_eps17") / ref[4].second - 1.0),
+              fabs(l.equal("v_p5") / ref[6].second - 1.0));
+}
+
+/* the field-by-field record: every parameter of the flow tanh law (and the others) survives the
+   restart; a record without a field reads its default (a parameter added after the file was
+   written); a field or a format this version does not know is refused, naming it. The records
+   are written here by hand in format 2 and read with PairSPHJCThermal::read_restart. */
+TEST(RestartFormat, FieldByField)
+{
+  {
+    Lammps l;
+    block2d(l, 6, 4, 1.0e-3, "A 350e6 B 275e6 n 0.36 Tref 300 Tmelt 1800 cp 477 flow tanh a 2 b 5 c 2 d 1");
+    l.cmds({"run 0 post no", "write_restart tanh.restart"});
+  }
+  {
+    Lammps l;
+    l.cmds({"read_restart tanh.restart", "fix sph all sph/jc-thermal", "run 0 post no"});
+    const sphcut::Material &m = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair)->model().materials()[1];
+    EXPECT_EQ(m.flow, sphcut::FLOW_TANH);
+    EXPECT_EQ(m.tanh_a, 2.0);
+    EXPECT_EQ(m.tanh_b, 5.0);
+    EXPECT_EQ(m.tanh_c, 2.0);
+    EXPECT_EQ(m.tanh_d, 1.0);
+    EXPECT_EQ(m.A, 350e6);
+    EXPECT_EQ(m.Tmelt, 1800.0);
+    EXPECT_EQ(m.cp, 477.0);
+    EXPECT_EQ(m.xsph, 0.5);
+    EXPECT_DOUBLE_EQ(m.G, 200e9 / 2.6);    // derived again
+  }
+  // format 2 by hand: tag, version, kernel, correction, hourglass; per type (count, (length, name,
+  // value)...), setflag, h, hdx
+  auto write_v2 = [](const char *name, int version, const std::vector<std::pair<std::string, double>> &fields) {
+    FILE *fp = fopen(name, "wb");
+    const int tag = 0x73706375, kernel = 0, corr = 1, setflag = 1, count = (int) fields.size();
+    const double hourglass = 0.0, h = 1.3e-5, hdx = 0.0;
+    fwrite(&tag, sizeof(int), 1, fp);
+    fwrite(&version, sizeof(int), 1, fp);
+    fwrite(&kernel, sizeof(int), 1, fp);
+    fwrite(&corr, sizeof(int), 1, fp);
+    fwrite(&hourglass, sizeof(double), 1, fp);
+    fwrite(&count, sizeof(int), 1, fp);
+    for (const auto &f : fields) {
+      const int len = (int) f.first.size();
+      fwrite(&len, sizeof(int), 1, fp);
+      fwrite(f.first.data(), 1, len, fp);
+      fwrite(&f.second, sizeof(double), 1, fp);
+    }
+    fwrite(&setflag, sizeof(int), 1, fp);
+    fwrite(&h, sizeof(double), 1, fp);
+    fwrite(&hdx, sizeof(double), 1, fp);
+    fclose(fp);
+  };
+  auto read_with = [](const char *name, std::string *err) {
+    Lammps l;
+    l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "region box block 0 1 0 1 -0.5 0.5",
+            "create_box 1 box", "pair_style sph/jc-thermal"});
+    auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
+    FILE *fp = fopen(name, "rb");
+    sphcut::Material m = {};
+    try {
+      pair->read_restart(fp);
+      m = pair->model().materials()[1];
+    } catch (LAMMPS_NS::LAMMPSException &e) {
+      *err = e.what();
+    }
+    fclose(fp);
+    return m;
+  };
+  const std::vector<std::pair<std::string, double>> few = {{"defined", 1}, {"rho0", 4430}, {"E", 113.8e9},
+                                                           {"nu", 0.342}, {"chi", 0.0}};
+  std::string err;
+  write_v2("few.restart", 2, few);
+  const sphcut::Material m = read_with("few.restart", &err);
+  EXPECT_EQ(err, "");
+  EXPECT_EQ(m.rho0, 4430.0);
+  EXPECT_EQ(m.chi, 0.0);
+  EXPECT_EQ(m.xsph, 0.5) << "missing field: its pair_coeff default";
+  EXPECT_EQ(m.Tref, 300.0);
+  EXPECT_EQ(m.flow, sphcut::FLOW_JC);
+  EXPECT_EQ(m.pmin, 0.0);
+  EXPECT_DOUBLE_EQ(m.K, 113.8e9 / (3.0 * (1.0 - 2.0 * 0.342)));
+  auto unknown = few;
+  unknown.push_back({"zeta", 1.0});
+  write_v2("unknown.restart", 2, unknown);
+  read_with("unknown.restart", &err);
+  EXPECT_NE(err.find("material parameter zeta (format 2) is unknown to this version"), std::string::npos) << err;
+  err.clear();
+  write_v2("future.restart", 3, few);
+  read_with("future.restart", &err);
+  EXPECT_NE(err.find("restart file written by another sphcut version (model restart format 3"), std::string::npos)
+      << err;
 }
 
 // a missing mass command, or per-atom masses left at 0 (fix property/atom rmass without
