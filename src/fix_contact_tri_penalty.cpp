@@ -147,7 +147,13 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     } else if (kw == "dtfac") {
       need(1, kw);
       dtfac = num(1);
-      if (dtfac <= 0.0 || dtfac > 0.5) error->all(FLERR, "Fix contact/tri-penalty: dtfac must be in (0,0.5], got {}", dtfac);
+      if (!(dtfac > 0.0 && dtfac <= 1.0)) error->all(FLERR, "Fix contact/tri-penalty: dtfac must be in (0,1], got {}", arg[iarg + 1]);
+      iarg += 2;
+    } else if (kw == "onset") {
+      need(1, kw);
+      onset = num(1);
+      if (!(onset >= 0.0 && onset < 1.0))
+        error->all(FLERR, "Fix contact/tri-penalty: onset must be in [0,1), got {}", arg[iarg + 1]);
       iarg += 2;
     } else if (kw == "stick") {
       need(1, kw);
@@ -575,6 +581,7 @@ sphcut::ContactIn FixContactTriPenalty::contact_params(double dt_force) const
   in.pfac = pfac;
   in.dfac = dfac;
   in.sfac = sfac;
+  in.onset = onset;
   in.v_reg = vreg;
   // friction opposes the sliding the particle would have after the step (its pair forces
   // included) and never exceeds the force that stops it: static friction up to mu F_N

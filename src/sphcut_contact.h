@@ -336,8 +336,11 @@ SPHCUT_INLINE double penalty_damping(double k, double m_i, double m_j, double df
    frac = dt/dt_crit / cfl (fix contact/tri-penalty dtfac):
      0.5: 0.32 / 0.086 %,  0.25: 0.099 / 0.028 %,  0.15: 0.026 / 0.009 %,
      0.1: 0.0094 / 0.0026 %  (about frac^2.5; limit applied within 2h of the tool).
-   The caller passes frac = dtfac cfl (default 0.15 cfl: omega dt <= 0.09
-   at cfl 0.3, undamped).
+   That is seed 000's law (onset 0).  The smooth onset (penalty_normal_force, onset > 0) has a
+   continuous stiffness and removes that growth: +0.0041 / +0.0055 % at the Courant step (onset
+   0.2; test_contact Impact.OnsetStudy), so the default keeps only the stability limit:
+   the caller passes frac = dtfac cfl (default dtfac 1: omega dt <= 0.6 at cfl 0.3, undamped;
+   seed 000's law as before with onset 0 dtfac 0.15).
 ------------------------------------------------------------------------- */
 
 SPHCUT_INLINE double penalty_dt_limit(double k, double m, double dfac, double frac)
@@ -346,6 +349,26 @@ SPHCUT_INLINE double penalty_dt_limit(double k, double m, double dfac, double fr
   const double omega = sqrt(k / m);
   const double z = dfac < 1.0 ? dfac : 1.0;
   return frac * 2.0 * (sqrt(1.0 + z * z) - z) / omega;
+}
+
+/* ----------------------------------------------------------------------
+   normal force of the penalty spring-dashpot at penetration delta > 0 and rate delta_dot,
+   eq. 12: F_N = k delta + D delta_dot (onset d0 = 0, the seed's law), or, with a smooth onset
+   over d0 > 0 (fix contact/tri-penalty onset), a spring whose stiffness ramps linearly from 0 to
+   k over the first d0 of penetration and a dashpot ramped alike:
+     F_N = k delta^2/(2 d0) + (delta/d0) D delta_dot     delta <  d0
+         = k (delta - d0/2) + D delta_dot                delta >= d0
+   The force and its potential are then continuous in delta and so is the stiffness: velocity
+   Verlet integrates a contact that switches on within a step without the energy gain of the
+   stiffness jump (see penalty_dt_limit), and the step need not be cut to keep it small.  The
+   price: d0/2 more penetration under the same load; the stiffness is never above k, so the
+   stability limit is the seed law's.
+------------------------------------------------------------------------- */
+
+SPHCUT_INLINE double penalty_normal_force(double k, double damp, double delta, double delta_dot, double d0)
+{
+  if (d0 > 0.0 && delta < d0) return (0.5 * k * delta + damp * delta_dot) * delta / d0;
+  return k * (d0 > 0.0 ? delta - 0.5 * d0 : delta) + damp * delta_dot;
 }
 
 /* ----------------------------------------------------------------------
@@ -369,6 +392,7 @@ struct ContactIn {
   double pfac = 1.0;                    // penalty factor, eq. 10
   double dfac = 0.0;                    // fraction of critical damping (penalty_damping)
   double sfac = 1.2;                    // h = SFAC dp, eq. 9
+  double onset = 0.0;                   // > 0: the spring ramps in over this fraction of the contact radius
   double mu = 0.0;                      // Coulomb friction coefficient, eq. 13
   double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
   double dt_stick = 0.0;                // > 0: stick limit over this step (see penalty_contact)
@@ -471,7 +495,7 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
 
   // not clipped: while the particle leaves (delta_dot < 0) the damping may pull (eq. 12 as
   // written), so DFAC = 1 is exactly critical: no rebound.  Friction takes max(F_N, 0).
-  const double fn = out.k * out.delta + out.damp * out.delta_dot;
+  const double fn = penalty_normal_force(out.k, out.damp, out.delta, out.delta_dot, in.onset * 0.5 * in.h / in.sfac);
   out.fn = fn;
 
   double vt[3];

@@ -67,10 +67,11 @@ TEST(Cutting, QuickTi6Al4V)
   std::printf("[ cutting  ] heat: sum m cp dT %.6g J/m = plastic %.6g + friction %.6g (workpiece %.4g, tool %.4g) "
               "+ Dirichlet %.4g - convection %.4g - radiation %.4g (%+.2e), friction heat unassigned %.3g\n",
               dE, qplast, qfric, l.equal("f_cut[6]"), l.equal("f_cut[7]"), qdir, qconv, qrad, hb, qlost);
-  // the issue asks for 1 %; measured -1.1e-6 (the friction heat is booked with the rectangle
-  // rule, the temperature uses the trapezoid); the per-particle FMFS/Brookshaw form
-  // (conservative no) misses by +1.2e-3 here
-  EXPECT_LT(fabs(hb), 3e-6);
+  // the issue asks for 1 %; measured -3.1e-6 (the friction heat is booked with the rectangle
+  // rule, the temperature uses the trapezoid: first order in the step; -1.1e-6 with seed 000's
+  // contact law and its 3x smaller step in contact, onset 0 dtfac 0.15); the per-particle
+  // FMFS/Brookshaw form (conservative no) misses by +1.2e-3 here
+  EXPECT_LT(fabs(hb), 1e-5);
   EXPECT_EQ(qlost, 0.0);
 }
 
