@@ -99,6 +99,12 @@ template <class DeviceType> struct ContactKernel {
   typedef FixContactTriPenaltyKokkos<DeviceType> FK;
   Kokkos::View<double *[FK::NREC], mem> rec;
   int cur;
+  // tool fields per facet (sphcut_contact.h facet_scatter): the running interval's sums
+  int fields;
+  double wear_K, wear_alpha;
+  sphcut::FacetShare share;
+  Kokkos::View<const double *, mem> inv_area;
+  Kokkos::View<double *, mem> facc;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -211,6 +217,13 @@ template <class DeviceType> struct ContactKernel {
       fout(i, 3) = out.fn;
       fout(i, 4) = dr[sphcut::DREC_FT];
       fout(i, 5) = feat + 1;
+    }
+    if (fields && !setup) {
+      const int region = sphcut::contact_region(view, best, xt);
+      sphcut::facet_scatter(share, inv_area.data(), best, region, out, s[F::TEMP_F], wear_K, wear_alpha, dt,
+                            [&](int fct, const double *c) {
+                              for (int k = 0; k < sphcut::NFS; k++) Kokkos::atomic_add(&facc(fct * sphcut::NFS + k), c[k]);
+                            });
     }
     sphcut::contact_drift(&s[F::XSPH], in.n);    // no XSPH drift along the contact normal
     for (int k = 0; k < dim; k++) {
@@ -343,6 +356,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
   upload();
+  fields_upload();
   peratom_freq = fix->peratom_freq;    // the per-atom contact force comes to the host with the state
 }
 
@@ -481,6 +495,14 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   if ((int) d_rec.extent(0) < atom->nmax) d_rec = decltype(d_rec)("contact:rec", atom->nmax);
   k.rec = d_rec;
   k.cur = rec_cur;
+  fields_step();
+  k.fields = fields.every;
+  k.wear_K = fields.K;
+  k.wear_alpha = fields.alpha;
+  k.share.start = d_share_start.data();
+  k.share.elem = d_share_elem.data();
+  k.inv_area = d_inv_area;
+  k.facc = d_facc;
   k.dtlim = fixkk->k_dtlim.template view<DeviceType>();
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
@@ -565,6 +587,7 @@ template <class DeviceType> double FixContactTriPenaltyKokkos<DeviceType>::compu
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_restart(FILE *fp)
 {
   fetch();
+  fields_fetch();
   FixContactTriPenalty::write_restart(fp);
 }
 
@@ -613,6 +636,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::end_of_
   compute_tool_velocity();
   if (toolbit && (vtool[0] != vtool_dev[0] || vtool[1] != vtool_dev[1] || vtool[2] != vtool_dev[2]))
     tool_velocity_device();
+  fields_end_of_step();
   if (write_every && update->ntimestep % write_every == 0) write_geometry();
   // the per-atom contact force (f_ID) and the sums on the host on output steps and every
   // peratom_freq steps (the energy budget of fix heat/fmfs includes the friction heat then)
@@ -627,7 +651,41 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_ru
 {
   k_fout.sync_host();
   fetch();
+  fields_fetch();
   peratom_freq = 1;
+}
+
+/* the tool fields' facet tables to the device, and the host's running sums (a restart file's or
+   the last run's) into d_facc */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fields_upload()
+{
+  if (!fields.every) return;
+  std::vector<int> se(fields.share_elem);
+  se.push_back(0);    // never empty
+  d_share_start = sphcut::to_device<int, DeviceType>(fields.share_start.data(), (int) fields.share_start.size(),
+                                                     "contact:share_start");
+  d_share_elem = sphcut::to_device<int, DeviceType>(se.data(), (int) se.size(), "contact:share_elem");
+  d_inv_area = sphcut::to_device<double, DeviceType>(fields.inv_area.data(), fields.nfacet, "contact:inv_area");
+  d_facc = sphcut::to_device<double, DeviceType>(fields.acc.data(), (int) fields.acc.size(), "contact:facc");
+}
+
+/* the running sums to the host (fields.acc) */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fields_fetch()
+{
+  if (!fields.every || (int) d_facc.extent(0) != (int) fields.acc.size()) return;
+  auto h = Kokkos::create_mirror_view(d_facc);
+  Kokkos::deep_copy(h, d_facc);
+  for (size_t k = 0; k < fields.acc.size(); k++) fields.acc[k] = h(k);
+}
+
+/* the interval's end: the sums to the host, averaged there (FixContactTriPenalty), then zeroed on
+   the device: one copy per interval */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fields_end_of_step()
+{
+  if (!fields.every || update->ntimestep % fields.every) return;
+  fields_fetch();
+  FixContactTriPenalty::fields_end_of_step();
+  Kokkos::deep_copy(d_facc, 0.0);
 }
 
 // the rigid tool particles move with the tool

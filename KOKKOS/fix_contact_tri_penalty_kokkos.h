@@ -87,6 +87,14 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   double vtool_dev[3] = {0.0, 0.0, 0.0};         // tool velocity the tool particles were last given
   void tool_velocity_device();
   void tool_heat_gather();                       // adds the tool's heat to its particles and to d_sums
+  // tool fields per facet: the contact kernel adds each contact's share to d_facc (atomics, the
+  // running interval's sums of this rank); the host copy (fields.acc) is made at the interval's
+  // end, at restarts and at the end of a run only
+  Kokkos::View<int *, mem> d_share_start, d_share_elem;
+  Kokkos::View<double *, mem> d_inv_area, d_facc;
+  void fields_upload();
+  void fields_fetch();
+  void fields_end_of_step() override;
 };
 
 }    // namespace LAMMPS_NS

@@ -78,14 +78,14 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       gargs = {arg[iarg + 1]};
       iarg += 2;
     } else if (kw == "insert") {
-      // insert rake G clearance A radius R rake_length L flank_length F [width W] [segments N]
+      // insert rake G clearance A radius R rake_length L flank_length F [width W] [segments N] [face_segments M]
       geom = "insert";
       gargs.clear();
       iarg++;
       while (iarg + 1 < narg) {
         const std::string k = arg[iarg];
         if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" &&
-            k != "flank_length" && k != "width" && k != "segments")
+            k != "flank_length" && k != "width" && k != "segments" && k != "face_segments")
           break;
         if (k == "segments") sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert segments", arg[iarg + 1]);
         else num(1);    // a LAMMPS error here if the value is not a number
@@ -250,6 +250,8 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
       if (!utils::strmatch(write_file, "\\.vtk$") && !utils::strmatch(write_file, "\\.stl$"))
         error->all(FLERR, "Fix contact/tri-penalty: write file {} must end in .vtk or .stl", write_file);
       iarg += 3;
+    } else if (const int nused = fields_parse(kw, iarg, narg, arg)) {
+      iarg += nused;
     } else {
       error->all(FLERR, "Fix contact/tri-penalty: unknown keyword {}", kw);
     }
@@ -295,6 +297,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
           else if (gargs[k] == "flank_length") ip.flank_length = v;
           else if (gargs[k] == "width") ip.width = v;
           else if (gargs[k] == "segments") ip.arc_segments = (int) v;
+          else if (gargs[k] == "face_segments") ip.face_segments = (int) v;
         }
         std::vector<int> tags;
         elem = sphcut::make_cutting_insert(ip, domain->dimension, &tags);
@@ -340,6 +343,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   // the per-atom data that must follow the atoms (last contact force, the velocity it used)
   // lives in fix sph/jc-thermal's state (columns FCONT, VCONT); fcontact is the output copy
   grow_output();
+  fields_setup();
 }
 
 FixContactTriPenalty::~FixContactTriPenalty()
@@ -633,6 +637,7 @@ void FixContactTriPenalty::post_force(int)
   for (int ft = 0; ft < NFEAT; ft++)
     for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
   double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
+  fields_step();
 
   // energy over the step with the weights of velocity Verlet: the particle gains
   // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
@@ -703,6 +708,7 @@ void FixContactTriPenalty::post_force(int)
       fcontact[i][4] = ftm;
       fcontact[i][5] = feat + 1;
     }
+    fields_contact(best, xt, out, st[i][F::TEMP_F]);
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
     // no XSPH drift along the contact normal (sphcut::contact_drift)
     sphcut::contact_drift(&st[i][F::XSPH], in.n);
@@ -804,6 +810,7 @@ void FixContactTriPenalty::grow_output()
 void FixContactTriPenalty::end_of_step()
 {
   update_tool_velocity();
+  fields_end_of_step();
   if (write_every && update->ntimestep % write_every == 0) write_geometry();
 }
 
@@ -824,7 +831,7 @@ void FixContactTriPenalty::write_geometry()
   const std::vector<double> cur = current_elements();
   try {
     if (utils::strmatch(file, "\\.stl$") && nvert == 3) sphcut::write_stl_ascii(file, cur, id);
-    else sphcut::write_vtk(file, cur, nvert);
+    else sphcut::write_vtk(file, cur, nvert, fields.vtk_names(), fields.out);
   } catch (std::exception &e) {
     error->one(FLERR, "Fix contact/tri-penalty: {}", e.what());
   }
@@ -846,6 +853,7 @@ void FixContactTriPenalty::write_geometry()
 
 double FixContactTriPenalty::compute_vector(int n)
 {
+  if (n >= NVEC_BASE) return fields.glob[n - NVEC_BASE];
   double loc = 0.0, res = 0.0;
   if (n <= 2) loc = ftool[n];
   else if (n == 3) loc = fric_power;
@@ -882,11 +890,14 @@ void FixContactTriPenalty::write_restart(FILE *fp)
 {
   double loc[5] = {q_work, q_tool, q_tool_lost, tool_work, contact_diss}, tot[5];
   MPI_Allreduce(loc, tot, 5, MPI_DOUBLE, MPI_SUM, world);
+  // version 2: a NaN tag, the version, the 10 values of version 1 (no tag), the tool fields
+  std::vector<double> list = {std::nan(""), 2.0, disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2],
+                              tot[3], tot[4], dt_last};
+  fields_write_restart(list);    // collective
   if (comm->me == 0) {
-    double list[10] = {disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2], tot[3], tot[4], dt_last};
-    int size = 10 * sizeof(double);
+    int size = (int) (list.size() * sizeof(double));
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 10, fp);
+    fwrite(list.data(), sizeof(double), list.size(), fp);
   }
 }
 
@@ -894,6 +905,8 @@ void FixContactTriPenalty::restart(char *buf)
 {
   restored = 1;
   const double *list = (const double *) buf;
+  const bool v2 = std::isnan(list[0]);
+  if (v2) list += 2;
   for (int k = 0; k < 3; k++) disp[k] = list[k];
   tool_temp = list[3];
   const int me0 = comm->me == 0;
@@ -903,6 +916,7 @@ void FixContactTriPenalty::restart(char *buf)
   tool_work = me0 ? list[7] : 0.0;
   contact_diss = me0 ? list[8] : 0.0;
   dt_last = list[9];
+  if (v2) fields_restart(list + 10);
 }
 
 double FixContactTriPenalty::memory_usage()

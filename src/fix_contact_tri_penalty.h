@@ -19,6 +19,7 @@ FixStyle(contact/tri-penalty,FixContactTriPenalty);
 #include "sphcut_stl.h"
 #include "sphcut_model.h"
 #include "sphcut_timer.h"
+#include "sphcut_tool_fields.h"
 
 #include <string>
 #include <vector>
@@ -48,6 +49,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   void write_restart(FILE *) override;
   void restart(char *) override;
   double memory_usage() override;
+  double compute_array(int, int) override;
 
   // the current tool geometry in the simulation frame (for output and tests)
   std::vector<double> current_elements() const;
@@ -129,6 +131,20 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   sphcut::ContactIn contact_params(double dt_force) const;
   void warn_inside();
   double spring_dt_crit(int i) const;
+
+  // tool fields per facet (tool_fields N, wear usui K alpha): loads, temperature and Usui wear,
+  // averaged over N steps (sphcut_tool_fields.h; the per-contact arithmetic in sphcut_contact.h)
+ public:
+  enum { NVEC_BASE = 15 + NFEAT * NDECOMP };    // vector elements before the tool fields' global sums
+  sphcut::ToolFields fields;
+ protected:
+  int fields_parse(const std::string &kw, int iarg, int narg, char **arg);    // values used, 0: not ours
+  void fields_setup();                          // after the geometry: facets, vector and array sizes
+  void fields_contact(int best, const double *xt, const sphcut::ContactOut &out, double temp);
+  void fields_step();                           // post_force of a step (not a setup): the interval's time
+  virtual void fields_end_of_step();            // the interval's end: averages (the /kk fix fetches first)
+  void fields_write_restart(std::vector<double> &list);
+  void fields_restart(const double *buf);
 };
 
 }    // namespace LAMMPS_NS

@@ -795,6 +795,93 @@ SPHCUT_INLINE double mu_table(const double *t, const double *mu, int n, double t
   return mu[k - 1] + s * (mu[k] - mu[k - 1]);
 }
 
+/* ----------------------------------------------------------------------
+   tool fields per facet (fix contact/tri-penalty tool_fields, wear usui):
+   the contact of particle i with the tool is booked on the facet (triangle,
+   2D segment) that holds its closest point q.  A contact whose q lies on an
+   edge or a vertex (region != FACE) is split equally among the facets that
+   share that edge or vertex (FacetShare, built on the host from exactly equal
+   vertex coordinates); the weights of one contact add up to 1, so the facet
+   sums of any force equal the tool's total force to round-off.
+   Per contact and facet f with weight w (facet_contact_sums), c[FS_*]:
+     FS_FN   w F_N                      (normal force on the tool, signed)
+     FS_FT   w |F_T|                    (friction force)
+     FS_VS   w v_s                      (sliding speed |v_rel,t|, weighted sum)
+     FS_T    w T                        (the particle's temperature, weighted sum)
+     FS_N    w                          (contacts)
+     FS_WEAR Usui rate of the contact's share of the facet's normal stress:
+               K sigma v_s exp(-alpha/T), sigma = max(w F_N, 0)/A_f
+               (usui_rate; 0 when T <= 0)
+     FS_FX.. -w f                       (force on the tool x, y, z)
+   Summed over the contacts of a facet FS_WEAR is K sigma_n v_s exp(-alpha/T)
+   when the contacts share v_s and T (a block sliding on a face), and the sum of
+   the contacts' local rates otherwise.  The drivers weight each step's sums with
+   dt (time averages over the interval).
+------------------------------------------------------------------------- */
+
+enum { FS_FN = 0, FS_FT, FS_VS, FS_T, FS_N, FS_WEAR, FS_FX, FS_FY, FS_FZ, NFS };
+
+// the facets sharing each edge / vertex: element e, region r (EDGE_AB .. VERT_C; 2D segments
+// VERT_A, VERT_B) lists elem[start[6 e + r - 1] .. start[6 e + r] - 1] (e itself included)
+struct FacetShare {
+  const int *start = nullptr;
+  const int *elem = nullptr;
+};
+
+// Usui's wear rate dW/dt = K sigma_n v_s exp(-alpha/T) (Usui, Shirakashi, Kitagawa 1984):
+// K (1/pressure), alpha (temperature), T absolute; no wear under tension or at T <= 0
+SPHCUT_INLINE double usui_rate(double K, double alpha, double sigma_n, double vs, double temp)
+{
+  if (!(sigma_n > 0.0) || !(temp > 0.0)) return 0.0;
+  return K * sigma_n * vs * exp(-alpha / temp);
+}
+
+// the region (FACE, EDGE_*, VERT_*) of the closest point of element e to xt (tool frame): the
+// one tri_bin_nearest found, recomputed (tool_surface returns only the element)
+SPHCUT_INLINE int contact_region(const TriBinView &g, int e, const double *xt)
+{
+  const double xx[3] = {xt[0], xt[1], g.nvert == 3 ? xt[2] : 0.0};
+  double q[3];
+  int region = FACE;
+  tri_bin_closest(g, e, xx, q, region);
+  return region;
+}
+
+// one contact's share w of facet f (inv_area = 1/A_f), as described above
+SPHCUT_INLINE void facet_contact_sums(const ContactOut &out, double w, double temp, double inv_area, double K,
+                                      double alpha, double *c)
+{
+  const double fn = w * out.fn;
+  c[FS_FN] = fn;
+  c[FS_FT] = w * len3(out.ft);
+  c[FS_VS] = w * out.vslide;
+  c[FS_T] = w * temp;
+  c[FS_N] = w;
+  c[FS_WEAR] = usui_rate(K, alpha, fn * inv_area, out.vslide, temp);
+  for (int k = 0; k < 3; k++) c[FS_FX + k] = -w * out.f[k];
+}
+
+// the contact on element e (closest point in region) over the facets sharing the feature:
+// add(f, c) with c[NFS] the sums of facet f, each multiplied by wt (the time step)
+template <class Add>
+SPHCUT_INLINE void facet_scatter(const FacetShare &s, const double *inv_area, int e, int region,
+                                 const ContactOut &out, double temp, double K, double alpha, double wt, Add &&add)
+{
+  int b = 0, n = 0;
+  if (region != FACE && s.start) {
+    b = s.start[6 * e + region - 1];
+    n = s.start[6 * e + region] - b;
+  }
+  const double w = n > 0 ? 1.0 / n : 1.0;
+  for (int k = 0; k < (n > 0 ? n : 1); k++) {
+    const int f = n > 0 ? s.elem[b + k] : e;
+    double c[NFS];
+    facet_contact_sums(out, w, temp, inv_area[f], K, alpha, c);
+    for (int j = 0; j < NFS; j++) c[j] *= wt;
+    add(f, c);
+  }
+}
+
 }    // namespace sphcut
 
 #endif

@@ -487,7 +487,8 @@ void write_stl_binary(const std::string &file, const std::vector<double> &tri, c
   if (!out) throw std::runtime_error("cannot write '" + file + "'");
 }
 
-void write_vtk(const std::string &file, const std::vector<double> &elem, int nvert)
+void write_vtk(const std::string &file, const std::vector<double> &elem, int nvert,
+               const std::vector<std::string> &cell_names, const std::vector<double> &cell_values)
 {
   check_elem(elem, nvert, "write_vtk");
   const size_t ne = elem.size() / (3 * nvert);
@@ -517,6 +518,17 @@ void write_vtk(const std::string &file, const std::vector<double> &elem, int nve
     snprintf(buf, sizeof(buf), "%.17g %.17g %.17g\n", n[0], n[1], n[2]);
     out << buf;
   }
+  const size_t nc = cell_names.size();
+  if (nc && cell_values.size() != ne * nc)
+    throw std::invalid_argument("write_vtk: " + std::to_string(cell_values.size()) + " cell values for " +
+                                std::to_string(ne) + " cells and " + std::to_string(nc) + " arrays");
+  for (size_t c = 0; c < nc; c++) {
+    out << "SCALARS " << cell_names[c] << " double 1\nLOOKUP_TABLE default\n";
+    for (size_t e = 0; e < ne; e++) {
+      snprintf(buf, sizeof(buf), "%.17g\n", cell_values[e * nc + c]);
+      out << buf;
+    }
+  }
   if (!out) throw std::runtime_error("cannot write '" + file + "'");
 }
 
@@ -536,6 +548,7 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim, std::vec
     throw std::invalid_argument(who + "rake and flank lengths must be positive");
   if (dim == 3 && !(p.width > 0.0)) throw std::invalid_argument(who + "width must be positive");
   if (p.arc_segments < 1) throw std::invalid_argument(who + "arc_segments must be >= 1");
+  if (p.face_segments < 1) throw std::invalid_argument(who + "face_segments must be >= 1");
 
   const double g = p.rake_angle * DEG, a = p.clearance_angle * DEG, r = p.edge_radius;
   const double nr[2] = {-cos(g), sin(g)};     // rake outward normal
@@ -594,6 +607,28 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim, std::vec
   px.push_back(px.back() + p.flank_length * tf[0]);
   py.push_back(py.back() + p.flank_length * tf[1]);
   ptag.push_back(INSERT_BACK);
+  if (p.face_segments > 1) {
+    // rake and flank faces split into face_segments equal parts (per-facet tool fields along them)
+    std::vector<double> qx, qy;
+    std::vector<int> qtag;
+    const int n0 = (int) px.size();
+    for (int i = 0; i < n0; i++) {
+      qx.push_back(px[i]);
+      qy.push_back(py[i]);
+      qtag.push_back(ptag[i]);
+      if (ptag[i] != INSERT_RAKE && ptag[i] != INSERT_FLANK) continue;
+      const int j = (i + 1) % n0;
+      for (int k = 1; k < p.face_segments; k++) {
+        const double s = (double) k / p.face_segments;
+        qx.push_back(px[i] + s * (px[j] - px[i]));
+        qy.push_back(py[i] + s * (py[j] - py[i]));
+        qtag.push_back(ptag[i]);
+      }
+    }
+    px.swap(qx);
+    py.swap(qy);
+    ptag.swap(qtag);
+  }
   const int nv = (int) px.size();
 
   std::vector<double> out;

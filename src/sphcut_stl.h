@@ -110,7 +110,10 @@ void write_stl_binary(const std::string &file, const std::vector<double> &tri,
 
 // legacy VTK unstructured grid (ParaView, OVITO, meshio): nvert 3 = triangles with cell
 // normals, nvert 2 = 2D segments as lines
-void write_vtk(const std::string &file, const std::vector<double> &elem, int nvert = 3);
+// cell_names / cell_values (optional): scalar cell arrays after the normals, cell_values row by
+// row (one row of cell_names.size() values per element)
+void write_vtk(const std::string &file, const std::vector<double> &elem, int nvert = 3,
+               const std::vector<std::string> &cell_names = {}, const std::vector<double> &cell_values = {});
 
 /* ----------------------------------------------------------------------
    orthogonal cutting insert.  Convention (x-y is the cutting plane):
@@ -127,6 +130,8 @@ void write_vtk(const std::string &file, const std::vector<double> &elem, int nve
      arc; the split puts a vertex at the lowest point); its lowest point,
      the tool tip, is at the origin.  r_beta = 0: sharp edge at the origin.
    - rake_length / flank_length: face lengths from the arc tangent points.
+   - face_segments: the rake and flank faces split into this many equal
+     parts (1: one element each; more give tool fields along the faces).
    - one back face joins the free ends of the rake and flank faces (the
      section is a convex polygon).
    dim 3: extruded over z in [-width/2, width/2], closed triangle mesh
@@ -143,6 +148,7 @@ struct InsertParams {
   double flank_length = 1.0;
   double width = 1.0;              // dim 3 only
   int arc_segments = 8;            // >= 1 (2 when the tip splits the arc)
+  int face_segments = 1;           // >= 1: rake and flank faces each split into this many equal parts
 };
 
 enum InsertFace { INSERT_RAKE = 0, INSERT_EDGE = 1, INSERT_FLANK = 2, INSERT_BACK = 3, INSERT_SIDE = 4 };

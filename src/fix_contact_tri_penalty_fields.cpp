@@ -1,0 +1,108 @@
+/* ----------------------------------------------------------------------
+   sphcut - fix contact/tri-penalty: tool fields per facet (keywords
+   tool_fields N, wear usui K alpha).  Member functions of
+   FixContactTriPenalty kept apart from the contact itself: the keywords,
+   the booking of each contact on the tool facets (sphcut_contact.h
+   facet_scatter, the same arithmetic as the /kk kernel), the end of an
+   averaging interval (sphcut::ToolFields), the global vector elements
+   48-52, the per-facet array and the restart block.
+------------------------------------------------------------------------- */
+
+#include "fix_contact_tri_penalty.h"
+
+#include "comm.h"
+#include "error.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+
+/* the keywords tool_fields N and wear usui K alpha: the number of arguments used, 0 if kw is not one of them */
+
+int FixContactTriPenalty::fields_parse(const std::string &kw, int iarg, int narg, char **arg)
+{
+  if (kw == "tool_fields") {
+    if (iarg + 1 >= narg) error->all(FLERR, "Fix contact/tri-penalty: keyword tool_fields needs 1 value(s)");
+    fields.every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+    if (fields.every < 1)
+      error->all(FLERR, "Fix contact/tri-penalty: tool_fields interval must be >= 1, got {}", fields.every);
+    return 2;
+  }
+  if (kw == "wear") {
+    if (iarg + 3 >= narg) error->all(FLERR, "Fix contact/tri-penalty: keyword wear needs 3 value(s) (usui K alpha)");
+    if (std::string(arg[iarg + 1]) != "usui")
+      error->all(FLERR, "Fix contact/tri-penalty: wear model must be usui, got {}", arg[iarg + 1]);
+    fields.K = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+    fields.alpha = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
+    if (fields.K < 0.0) error->all(FLERR, "Fix contact/tri-penalty: wear usui K must be >= 0, got {}", fields.K);
+    if (fields.alpha < 0.0)
+      error->all(FLERR, "Fix contact/tri-penalty: wear usui alpha must be >= 0, got {}", fields.alpha);
+    fields.wear = 1;
+    return 4;
+  }
+  return 0;
+}
+
+/* after the geometry is loaded (constructor): the facets, the array, the vector's length */
+
+void FixContactTriPenalty::fields_setup()
+{
+  size_vector = NVEC_BASE + sphcut::ToolFields::NGLOB;
+  if (fields.wear && !fields.every)
+    error->all(FLERR, "Fix contact/tri-penalty: wear usui needs tool_fields N (the averaging interval)");
+  if (fields.wear && id_heat.empty())
+    error->all(FLERR, "Fix contact/tri-penalty: wear usui needs the interface temperature: give heat ID "
+               "(a fix heat/fmfs)");
+  if (!fields.every) return;
+  fields.build(elem, nvert, elem_feature);
+  array_flag = 1;
+  size_array_rows = fields.nfacet;
+  size_array_cols = sphcut::ToolFields::NCOL;
+  extarray = 0;
+}
+
+/* one contact of this step (not at a setup: the setup repeats the last step's forces) on the
+   facets sharing the feature that holds its closest point, weighted by dt */
+
+void FixContactTriPenalty::fields_contact(int best, const double *xt, const sphcut::ContactOut &out, double temp)
+{
+  if (!fields.every || update->setupflag) return;
+  const sphcut::TriBinView view = bins.view();
+  const int region = sphcut::contact_region(view, best, xt);
+  sphcut::facet_scatter(fields.share(), fields.inv_area.data(), best, region, out, temp, fields.K, fields.alpha,
+                        update->dt, [&](int f, const double *c) { fields.add(f, c); });
+}
+
+// a step's contact evaluation adds its dt to the running interval
+void FixContactTriPenalty::fields_step()
+{
+  if (fields.every && !update->setupflag) fields.time += update->dt;
+}
+
+// the end of an interval (steps that are multiples of N): averages, depth, global sums
+void FixContactTriPenalty::fields_end_of_step()
+{
+  if (fields.every && update->ntimestep % fields.every == 0) fields.close_interval(world, current_elements());
+}
+
+double FixContactTriPenalty::compute_array(int i, int j)
+{
+  return fields.out[(size_t) i * sphcut::ToolFields::NCOL + j];
+}
+
+/* restart: a flag (1: tool fields follow) and ToolFields::restart_data; collective */
+
+void FixContactTriPenalty::fields_write_restart(std::vector<double> &list)
+{
+  list.push_back(fields.every ? 1.0 : 0.0);
+  if (!fields.every) return;
+  const std::vector<double> b = fields.restart_data(world);
+  list.insert(list.end(), b.begin(), b.end());
+}
+
+void FixContactTriPenalty::fields_restart(const double *buf)
+{
+  if (buf[0] == 0.0 || !fields.every) return;    // none stored, or none wanted now
+  if (!fields.read_restart(buf + 1, comm->me == 0))
+    error->all(FLERR, "Fix contact/tri-penalty: the restart file holds tool fields of {} facets, the tool has {}",
+               (int) buf[1], fields.nfacet);
+}
