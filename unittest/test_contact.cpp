@@ -28,6 +28,7 @@
 
 using sphcut_test::Lammps;
 using sphcut_test::box_triangles;
+using sphcut_test::prism;
 
 namespace {
 
@@ -510,24 +511,6 @@ TEST(FrictionMemory, DecompositionByFeature)
 ------------------------------------------------------------------------- */
 
 namespace {
-
-// closed prism: polygon (x, y) counter-clockwise, extruded over z in [z0, z1]
-std::vector<double> prism(const std::vector<double> &poly, double z0, double z1)
-{
-  const int n = (int) poly.size() / 2;
-  std::vector<double> tri;
-  auto put = [&](double x, double y, double z) { tri.insert(tri.end(), {x, y, z}); };
-  for (int k = 1; k + 1 < n; k++) {
-    put(poly[0], poly[1], z1), put(poly[2 * k], poly[2 * k + 1], z1), put(poly[2 * k + 2], poly[2 * k + 3], z1);
-    put(poly[0], poly[1], z0), put(poly[2 * k + 2], poly[2 * k + 3], z0), put(poly[2 * k], poly[2 * k + 1], z0);
-  }
-  for (int k = 0; k < n; k++) {
-    const double *a = &poly[2 * k], *b = &poly[2 * ((k + 1) % n)];
-    put(a[0], a[1], z0), put(b[0], b[1], z0), put(b[0], b[1], z1);
-    put(a[0], a[1], z0), put(b[0], b[1], z1), put(a[0], a[1], z1);
-  }
-  return tri;
-}
 
 struct ImpactEnergy {
   double gain, vmax, steps;
