@@ -11,7 +11,11 @@ distance of a facet from the cutting edge is that of its centroid from the mean 
 edge facets (feature 2), in the x-y plane (2D: along the face, to within half a facet and the
 edge radius; 3D: the two triangles of a strip give two points).
 
-usage: tool_fields.py [tool-fields.dat] [--skip 0.5] [--out tool-fields.png]
+Facets with fewer contacts than --min-contacts (default 0.02, a time average) are not
+plotted (listed in the table): a stray particle touching the far end of a face now and
+then gives it a stress and speed of its own.
+
+usage: tool_fields.py [tool-fields.dat] [--skip 0.5] [--min-contacts 0.02] [--out tool-fields.png]
 """
 import argparse
 import math
@@ -69,6 +73,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("file", nargs="?", default="tool-fields.dat")
     ap.add_argument("--skip", type=float, default=0.5, help="leave out the intervals before this fraction of the run")
+    ap.add_argument("--min-contacts", type=float, default=0.02, help="plot only facets with at least this many contacts")
     ap.add_argument("--out", default="tool-fields.png")
     a = ap.parse_args()
     blocks = read_blocks(a.file)
@@ -91,7 +96,10 @@ def main():
         return
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
     for ax, (name, rows) in zip(axes, prof.items()):
+        dmax = max(r[0] for r in rows) * 1e6 if rows else 1.0
+        rows = [r for r in rows if r[1 + NC] >= a.min_contacts]
         d = [r[0] * 1e6 for r in rows]
+        ax.set_xlim(0.0, dmax)
         ax.plot(d, [r[1 + SN] / 1e6 for r in rows], "o-", label="normal stress")
         ax.plot(d, [r[1 + TAU] / 1e6 for r in rows], "s-", label="shear stress")
         ax.set_xlabel(f"distance from the cutting edge along the {name} [um]")
@@ -99,12 +107,14 @@ def main():
         ax2 = ax.twinx()
         ax2.plot(d, [r[1 + WEAR] * 1e6 for r in rows], "^-", color="tab:red", label="Usui wear rate")
         ax2.set_ylabel("wear rate [um/s]", color="tab:red")
+        ax2.set_ylim(bottom=0.0)
         ax.set_title(f"{name} face")
         if name == "rake":
             ax.set_ylabel("stress [MPa]")
             h1, l1 = ax.get_legend_handles_labels()
             h2, l2 = ax2.get_legend_handles_labels()
             ax.legend(h1 + h2, l1 + l2, loc="upper right", fontsize=8)
+    axes[0].set_ylim(bottom=0.0)
     fig.suptitle(f"tool loads and wear, steps {use[0][0]}-{use[-1][0]} ({len(use)} intervals)")
     fig.tight_layout()
     fig.savefig(a.out, dpi=120)

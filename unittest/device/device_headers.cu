@@ -89,4 +89,11 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   penalty_contact(ci, co);
   out[4] = decompose_contact(co, n, acc) + mu_table(r, gg, 2, 300.0) + penalty_dt_limit(1, 1, 0.1, 1) +
            kernel_w(0, 3, 0.5, 1.0) + near_contact(d, 1, 1.2, v, v, 3, 1e-9) + dirichlet_index(1, 1, &e, 1);
+  // tool fields per facet
+  FacetShare fs;
+  fs.start = &e;
+  fs.elem = &e;
+  facet_scatter(fs, acc, e, contact_region(g, e, x), co, s[11], s[12], s[13], 1e-9,
+                [&](int f, const double *c) { out[6] += f * c[FS_WEAR] + c[FS_FN]; });
+  out[7] = usui_rate(1e-15, 2500.0, s[14], s[15], s[16]);
 }
