@@ -87,7 +87,8 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
         if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" &&
             k != "flank_length" && k != "width" && k != "segments" && k != "face_segments")
           break;
-        if (k == "segments") sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert segments", arg[iarg + 1]);
+        if (k == "segments" || k == "face_segments")
+          sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert " + k, arg[iarg + 1]);
         else num(1);    // a LAMMPS error here if the value is not a number
         gargs.push_back(k);
         gargs.push_back(arg[iarg + 1]);

@@ -10,6 +10,8 @@
 
 #include "fix_contact_tri_penalty.h"
 
+#include "sphcut_checks.h"
+
 #include "comm.h"
 #include "error.h"
 #include "update.h"
@@ -22,9 +24,7 @@ int FixContactTriPenalty::fields_parse(const std::string &kw, int iarg, int narg
 {
   if (kw == "tool_fields") {
     if (iarg + 1 >= narg) error->all(FLERR, "Fix contact/tri-penalty: keyword tool_fields needs 1 value(s)");
-    fields.every = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-    if (fields.every < 1)
-      error->all(FLERR, "Fix contact/tri-penalty: tool_fields interval must be >= 1, got {}", fields.every);
+    fields.every = sphcut::parse_int(lmp, "Fix contact/tri-penalty", "tool_fields interval", arg[iarg + 1]);
     return 2;
   }
   if (kw == "wear") {

@@ -451,6 +451,7 @@ TEST(ToolFields, BadInput)
           "fix sph all sph/jc-thermal", "fix heat all heat/fmfs"});
   const std::string fix = "fix tool all contact/tri-penalty stl split.stl heat heat ";
   EXPECT_TRUE(l.error_contains(fix + "tool_fields 0", "tool_fields interval must be >= 1, got 0"));
+  EXPECT_TRUE(l.error_contains(fix + "tool_fields 2.5", "tool_fields interval must be an integer, got 2.5"));
   EXPECT_TRUE(l.error_contains(fix + "tool_fields", "keyword tool_fields needs 1 value(s)"));
   EXPECT_TRUE(l.error_contains(fix + "tool_fields 10 wear usui -1e-8 2500", "wear usui K must be >= 0, got -1e-08"));
   EXPECT_TRUE(l.error_contains(fix + "tool_fields 10 wear usui 1e-8 -5", "wear usui alpha must be >= 0, got -5"));
@@ -461,5 +462,5 @@ TEST(ToolFields, BadInput)
                                "wear usui needs the interface temperature: give heat ID"));
   EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty insert rake 0 clearance 7 radius 0 rake_length 1e-3 "
                                "flank_length 1e-3 face_segments 0",
-                               "face_segments must be >= 1"));
+                               "insert face_segments must be >= 1, got 0"));
 }
