@@ -13,6 +13,7 @@
 #include "sphcut_test.h"
 
 #include "comm.h"
+#include "input.h"
 #include "sphcut_stl.h"
 #include "update.h"
 
@@ -436,6 +437,48 @@ TEST(ToolFields, KokkosMatchesCpu)
     EXPECT_EQ(nshared, 2);    // 2D: the two middle segments; 3D: the two triangles of the top face
     EXPECT_LT(worst, 1e-10);
   }
+}
+
+// the 2D cutting example with -var toolfields: many contacts on the rake face, the edge arc and
+// the flank (vertex splits), friction heat and conduction (the temperature column), two intervals
+TEST(ToolFields, KokkosCut2DMatchesCpu)
+{
+  const std::vector<std::string> kk = {"-k", "on", "t", "2", "-sf", "kk", "-pk", "kokkos", "neigh", "full",
+                                       "newton", "off"};
+  std::vector<std::vector<double>> a[2];
+  for (int k = 0; k < 2; k++) {
+    Lammps l(MPI_COMM_WORLD, k ? kk : std::vector<std::string>{});
+    for (const char *v : {"ny index 11", "xstart index 0.6", "steps index 1000", "dumpevery index 0",
+                          "thermoevery index 1000", "toolfields index 500"})
+      l.cmd(std::string("variable ") + v);
+    l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+    LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("cut")];
+    a[k].assign(f->size_array_rows, std::vector<double>(NCOL));
+    for (int i = 0; i < f->size_array_rows; i++)
+      for (int j = 0; j < NCOL; j++) a[k][i][j] = f->compute_array(i, j);
+  }
+  // each column against its largest magnitude over the facets; the sliding speed against the
+  // cutting speed and the wear rate against K sigma_max v_c exp(-alpha/T_max) (the chip sticks in
+  // the first steps: v_s is round-off, 1e-16 m/s, on some facets)
+  const double vc = 318.5 / 60.0;
+  double scale[NCOL] = {0.0};
+  for (auto &r : a[0])
+    for (int c = 0; c < NCOL; c++) scale[c] = std::max(scale[c], fabs(r[c]));
+  scale[VS] = std::max(scale[VS], vc);
+  scale[WEAR] = std::max(scale[WEAR], 7.8e-15 * scale[SN] * vc * exp(-2500.0 / std::max(scale[TEMP], 1.0)));
+  double worst = 0.0, contacts = 0.0;
+  int nfacets = 0;
+  for (size_t i = 0; i < a[0].size(); i++) {
+    for (int c = 0; c < NCOL; c++)
+      if (scale[c] > 0.0) worst = std::max(worst, fabs(a[0][i][c] - a[1][i][c]) / scale[c]);
+    contacts += a[0][i][NC];
+    nfacets += a[0][i][NC] > 0.0;
+  }
+  if (rank() == 0)
+    std::printf("[ kokkos   ] 2D cut, 1000 steps: CPU vs -sf kk per facet: largest difference %.2e (%d facets, %.2f "
+                "contacts)\n", worst, nfacets, contacts);
+  EXPECT_GT(nfacets, 2);
+  EXPECT_LT(worst, 1e-10);
 }
 #endif
 
