@@ -95,6 +95,7 @@ def main():
         print("(no matplotlib: table only)")
         return
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    twins = []
     for ax, (name, rows) in zip(axes, prof.items()):
         dmax = max(r[0] for r in rows) * 1e6 if rows else 1.0
         rows = [r for r in rows if r[1 + NC] >= a.min_contacts]
@@ -105,6 +106,7 @@ def main():
         ax.set_xlabel(f"distance from the cutting edge along the {name} [um]")
         ax.grid(alpha=0.3)
         ax2 = ax.twinx()
+        twins.append(ax2)
         ax2.plot(d, [r[1 + WEAR] * 1e6 for r in rows], "^-", color="tab:red", label="Usui wear rate")
         ax2.set_ylabel("wear rate [um/s]", color="tab:red")
         ax2.set_ylim(bottom=0.0)
@@ -115,6 +117,9 @@ def main():
             h2, l2 = ax2.get_legend_handles_labels()
             ax.legend(h1 + h2, l1 + l2, loc="upper right", fontsize=8)
     axes[0].set_ylim(bottom=0.0)
+    top = max(t.get_ylim()[1] for t in twins)    # one wear-rate scale for both faces
+    for t in twins:
+        t.set_ylim(0.0, top)
     fig.suptitle(f"tool loads and wear, steps {use[0][0]}-{use[-1][0]} ({len(use)} intervals)")
     fig.tight_layout()
     fig.savefig(a.out, dpi=120)
