@@ -62,7 +62,8 @@ void write_tools()
 }
 
 // the sliding block: 19 x 4 particles (x = -9 .. 9 mm), the bottom row delta0 inside the contact
-// radius, velocity (vx, 0), temperature T0, heat conduction (fix heat/fmfs); contact keywords extra
+// radius, velocity (vx, 0), temperature T0, heat conduction (fix heat/fmfs), the spring of seed 000
+// (onset 0: F_N = k delta, no ramp); contact keywords extra
 std::vector<std::string> block(const std::string &extra, double vx = 1.0, double delta0 = 2e-5)
 {
   write_tools();
@@ -73,7 +74,8 @@ std::vector<std::string> block(const std::string &extra, double vx = 1.0, double
           "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3 cp 477 k 50",
           "fix sph all sph/jc-thermal temp " + num(T0), "fix heat all heat/fmfs", "timestep " + num(DT),
           "velocity all set " + num(vx) + " 0 0 units box",
-          "fix tool all contact/tri-penalty stl split.stl dfac 0 mu " + num(MU) + " heat heat " + extra, "thermo 0"};
+          "fix tool all contact/tri-penalty stl split.stl dfac 0 onset 0 mu " + num(MU) + " heat heat " + extra,
+          "thermo 0"};
 }
 
 LAMMPS_NS::Fix *fix_of(Lammps &l, const char *id = "tool")
@@ -345,7 +347,7 @@ TEST(ToolFields, RestartContinuesWear)
   }
   Lammps l;
   l.cmds({"read_restart wear.restart", "fix sph all sph/jc-thermal temp " + num(T0), "fix heat all heat/fmfs",
-          "fix tool all contact/tri-penalty stl split.stl dfac 0 mu " + num(MU) + " heat heat " + kw, "thermo 0"});
+          "fix tool all contact/tri-penalty stl split.stl dfac 0 onset 0 mu " + num(MU) + " heat heat " + kw, "thermo 0"});
   const auto back = facets(l);
   for (size_t i = 0; i < mid.size(); i++)
     for (int c = 0; c < NCOL; c++) EXPECT_EQ(back[i][c], mid[i][c]) << i << " " << c;
