@@ -100,7 +100,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double diss_rate;               // contact dissipation rate sum F.(v_tool - v) of this step
   double contact_diss;            // dissipated at the contact (friction, dashpot), cumulative
   double dt_last;                 // time step of the last contact evaluation
-  double dtfac = 1.0;             // fraction (times cfl) of the spring's stability limit
+  double dtfac = 0.5;             // fraction (times cfl) of the spring's stability limit
   double onset = 0.2;             // smooth onset of the spring over this fraction of the contact radius
   double dt_crit;                 // min stability limit of the spring, particles in or near contact (this rank)
   double **fcontact;              // per-atom output of this step: contact force (3), F_N, |F_T|, feature
