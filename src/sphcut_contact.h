@@ -340,7 +340,7 @@ SPHCUT_INLINE double penalty_damping(double k, double m_i, double m_j, double df
    continuous stiffness and removes that growth: +0.0041 / +0.0055 % at the Courant step (onset
    0.2; test_contact Impact.OnsetStudy), so the step need not be cut for the energy; the default
    dtfac 0.5 (omega dt <= 0.3 at cfl 0.3, undamped) is chosen from the 2D cut at 41 across: Fc
-   within 2.1 % of a run at half the step, Ft within its run-to-run scatter of about 10 %
+   within 2.1 % of a run at half the step, Ft 10 % apart with no trend in the step (38.7-42.7 N/mm)
    (bench/gpu/RESULTS.md, doc/fix_contact_tri_penalty.rst).  The caller passes frac = dtfac cfl; seed 000's law as before is onset 0
    dtfac 0.15.
 ------------------------------------------------------------------------- */
