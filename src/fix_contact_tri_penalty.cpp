@@ -370,6 +370,13 @@ double FixContactTriPenalty::contact_radius_max() const
 
 void FixContactTriPenalty::init()
 {
+  // one contact fix: the per-atom contact columns of fix sph/jc-thermal (force, feature, friction
+  // memory) and the contact's time step limit exist once, a second fix would overwrite them
+  for (int k = 0; k < modify->nfix; k++)
+    if (modify->fix[k] != this && utils::strmatch(modify->fix[k]->style, "^contact/tri-penalty"))
+      error->all(FLERR, "Fix contact/tri-penalty: only one contact/tri-penalty fix is supported, found {} and {} "
+                 "(the per-atom contact state and the contact's time step limit exist once; put several tools "
+                 "in one STL file)", id, modify->fix[k]->id);
   fix = FixSPHJCThermal::require(lmp, "Fix contact/tri-penalty", groupbit, group->names[igroup], &model);
   fix->attach(this);
   heat = nullptr;

@@ -347,3 +347,14 @@ TEST(Messages, VelocityNotANumber)
                                           "is not a number (NaN), at step 0"));
   }
 }
+
+// two contact fixes shared the per-atom contact state and the contact's time step limit (issue
+// 24): the second one silently overwrote the first's columns; now refused, naming both
+TEST(ContactFixes, SecondOneIsRefused)
+{
+  write_plate();
+  Lammps l;
+  block(l, 4, 3, 2.0e-3);
+  l.cmds({"fix tool all contact/tri-penalty stl plate.stl", "fix tool2 all contact/tri-penalty stl plate.stl"});
+  EXPECT_TRUE(l.error_contains("run 0", "Fix contact/tri-penalty: only one contact/tri-penalty fix is supported, found "));
+}
