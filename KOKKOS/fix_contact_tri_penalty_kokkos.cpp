@@ -171,7 +171,8 @@ template <class DeviceType> struct ContactKernel {
     const double xt[3] = {x(i, 0) - disp[0], x(i, 1) - disp[1], dim == 2 ? 0.0 : x(i, 2) - disp[2]};
     sphcut::ContactIn in = params;
     double q[3];
-    const int best = sphcut::tool_surface(view, xt, hi, in.d, in.n, q);
+    int region;
+    const int best = sphcut::tool_surface(view, xt, hi, in.d, in.n, q, region);
     if (best < 0) return;
     const double mi = use_rmass ? rmass(i) : mass(it);
     const double dpi = dp(it) > 0.0 ? dp(it) : hi / sfac;
@@ -219,7 +220,6 @@ template <class DeviceType> struct ContactKernel {
       fout(i, 5) = feat + 1;
     }
     if (fields && !setup) {
-      const int region = sphcut::contact_region(view, best, xt);
       sphcut::facet_scatter(share, inv_area.data(), best, region, out, s[F::TEMP_F], wear_K, wear_alpha, dt,
                             [&](int fct, const double *c) {
                               for (int k = 0; k < sphcut::NFS; k++) Kokkos::atomic_add(&facc(fct * sphcut::NFS + k), c[k]);

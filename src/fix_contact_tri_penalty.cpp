@@ -444,7 +444,8 @@ void FixContactTriPenalty::init()
       const double *xi = atom->x[i];
       const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
       double d, n[3], q[3];
-      if (sphcut::tool_surface(view, xt, h, d, n, q) < 0) continue;    // no facet within 2h
+      int region;
+      if (sphcut::tool_surface(view, xt, h, d, n, q, region) < 0) continue;    // no facet within 2h
       if (sphcut::near_contact(d, h, sfac, atom->v[i], vtool, domain->dimension, update->dt))
         dt_crit = std::min(dt_crit, spring_dt_crit(i));
     }
@@ -675,7 +676,8 @@ void FixContactTriPenalty::post_force(int)
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
     sphcut::ContactIn in = params;
     double qs[3];
-    const int best = sphcut::tool_surface(view, xt, h, in.d, in.n, qs);
+    int region;
+    const int best = sphcut::tool_surface(view, xt, h, in.d, in.n, qs, region);
     if (best < 0) continue;
     const double mi = rmass ? rmass[i] : mass[it];
     const double dpi = model->spacing(it) > 0.0 ? model->spacing(it) : h / sfac;
@@ -716,7 +718,7 @@ void FixContactTriPenalty::post_force(int)
       fcontact[i][4] = ftm;
       fcontact[i][5] = feat + 1;
     }
-    fields_contact(best, xt, out, st[i][F::TEMP_F]);
+    fields_contact(best, region, out, st[i][F::TEMP_F]);
     maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
     // no XSPH drift along the contact normal (sphcut::contact_drift)
     sphcut::contact_drift(&st[i][F::XSPH], in.n);

@@ -140,7 +140,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
  protected:
   int fields_parse(const std::string &kw, int iarg, int narg, char **arg);    // values used, 0: not ours
   void fields_setup();                          // after the geometry: facets, vector and array sizes
-  void fields_contact(int best, const double *xt, const sphcut::ContactOut &out, double temp);
+  void fields_contact(int best, int region, const sphcut::ContactOut &out, double temp);
   void fields_step();                           // post_force of a step (not a setup): the interval's time
   virtual void fields_end_of_step();            // the interval's end: averages (the /kk fix fetches first)
   void fields_write_restart(std::vector<double> &list);

@@ -63,11 +63,9 @@ void FixContactTriPenalty::fields_setup()
 /* one contact of this step (not at a setup: the setup repeats the last step's forces) on the
    facets sharing the feature that holds its closest point, weighted by dt */
 
-void FixContactTriPenalty::fields_contact(int best, const double *xt, const sphcut::ContactOut &out, double temp)
+void FixContactTriPenalty::fields_contact(int best, int region, const sphcut::ContactOut &out, double temp)
 {
   if (!fields.every || update->setupflag) return;
-  const sphcut::TriBinView view = bins.view();
-  const int region = sphcut::contact_region(view, best, xt);
   sphcut::facet_scatter(fields.share(), fields.inv_area.data(), best, region, out, temp, fields.K, fields.alpha,
                         update->dt, [&](int f, const double *c) { fields.add(f, c); });
 }

@@ -488,7 +488,8 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   double vrel[3];
   sub3(in.v, in.vtool, vrel);
   const double vn = dot3(vrel, in.n);
-  out.delta = 0.5 * in.h / in.sfac - in.d;
+  const double rc = 0.5 * in.h / in.sfac;    // contact radius, eq. 9
+  out.delta = rc - in.d;
   out.delta_dot = -vn;
   out.k = penalty_stiffness(in.E_particle, in.E_tool, in.dp, in.pfac, in.dim);
   out.damp = penalty_damping(out.k, in.mass, in.m_tool, in.dfac);
@@ -497,7 +498,7 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
 
   // not clipped: while the particle leaves (delta_dot < 0) the damping may pull (eq. 12 as
   // written), so DFAC = 1 is exactly critical: no rebound.  Friction takes max(F_N, 0).
-  const double fn = penalty_normal_force(out.k, out.damp, out.delta, out.delta_dot, in.onset * 0.5 * in.h / in.sfac);
+  const double fn = penalty_normal_force(out.k, out.damp, out.delta, out.delta_dot, in.onset * rc);
   out.fn = fn;
 
   double vt[3];
@@ -685,16 +686,16 @@ SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double r
    the tool surface seen by a particle at xt (tool frame): nearest element
    within 2h (particles deeper than the contact radius still find the
    surface), signed distance d (< 0 inside), outward unit normal n, point q
-   (tool frame).  Returns the element, -1 when none lies within 2h.
+   (tool frame), and the feature (FACE, EDGE_*, VERT_*) of that element
+   holding q.  Returns the element, -1 when none lies within 2h.
 ------------------------------------------------------------------------- */
 
 SPHCUT_INLINE int tool_surface(const TriBinView &g, const double *xt, double h, double &d, double *n,
-                               double *q)
+                               double *q, int &region)
 {
-  int reg;
-  const int e = tri_bin_nearest(g, xt, 2.0 * h, q, reg);
+  const int e = tri_bin_nearest(g, xt, 2.0 * h, q, region);
   if (e < 0) return -1;
-  d = tri_bin_contact_normal(g, e, xt, q, reg, 0, n);
+  d = tri_bin_contact_normal(g, e, xt, q, region, 0, n);
   return e;
 }
 
@@ -836,17 +837,6 @@ SPHCUT_INLINE double usui_rate(double K, double alpha, double sigma_n, double vs
 {
   if (!(sigma_n > 0.0) || !(temp > 0.0)) return 0.0;
   return K * sigma_n * vs * exp(-alpha / temp);
-}
-
-// the region (FACE, EDGE_*, VERT_*) of the closest point of element e to xt (tool frame): the
-// one tri_bin_nearest found, recomputed (tool_surface returns only the element)
-SPHCUT_INLINE int contact_region(const TriBinView &g, int e, const double *xt)
-{
-  const double xx[3] = {xt[0], xt[1], g.nvert == 3 ? xt[2] : 0.0};
-  double q[3];
-  int region = FACE;
-  tri_bin_closest(g, e, xx, q, region);
-  return region;
 }
 
 // one contact's share w of facet f (inv_area = 1/A_f), as described above

@@ -231,7 +231,8 @@ TEST(SharpCorners, SignedDistanceMatchesWindingNumber)
       if (d != HUGE_VAL) worst = std::max(worst, fabs(d - r.d()));    // HUGE_VAL: outside the bins' box
       if (r.dist < 1.9 * H) {
         double ds, n[3], q[3];
-        ASSERT_GE(sphcut::tool_surface(g, p.data(), H, ds, n, q), 0);
+        int region;
+        ASSERT_GE(sphcut::tool_surface(g, p.data(), H, ds, n, q, region), 0);
         const Vec nr = ref_normal(r, p, c.nvert);
         worst = std::max(worst, fabs(ds - r.d()));
         worstn = std::max(worstn, norm(sub({n[0], n[1], n[2]}, nr)));

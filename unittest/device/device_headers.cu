@@ -81,7 +81,8 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
            heat_exchange<2>(hv, 1.0, 300.0, 1.0, s + 23, sink) +
            heat_rate(3, HeatLosses{1.0, 300.0, 1.0, 300.0, 1}, 1, 1.0, 1.0, 1.0, 1.0, 300.0, pc, pr) +
            support_radius_sq(s[17]);
-  int e = tool_surface(g, x, 1e-4, d, n, q);
+  int region;
+  int e = tool_surface(g, x, 1e-4, d, n, q, region);
   ContactIn ci = cin[0]; ContactOut co;
   ci.friction_memory = e & 1;
   memory_friction_input(s, true, false, ci.ft_old);
@@ -93,7 +94,7 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   FacetShare fs;
   fs.start = &e;
   fs.elem = &e;
-  facet_scatter(fs, acc, e, contact_region(g, e, x), co, s[11], s[12], s[13], 1e-9,
+  facet_scatter(fs, acc, e, region, co, s[11], s[12], s[13], 1e-9,
                 [&](int f, const double *c) { out[6] += f * c[FS_WEAR] + c[FS_FN]; });
   out[7] = usui_rate(1e-15, 2500.0, s[14], s[15], s[16]);
 }
