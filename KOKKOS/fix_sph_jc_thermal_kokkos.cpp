@@ -112,7 +112,8 @@ template <class DeviceType> struct SecondHalf {
 
 template <class DeviceType>
 FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg), remap(0), nrows(0), rowtag(nullptr)
+    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg),
+    remap(0), nrows(0), rowtag(nullptr)
 {
   kokkosable = 1;
   forward_comm_device = 1;

@@ -736,7 +736,8 @@ TEST(KokkosThermal, EachStyleReportsItsDtLimit)
   int me;
   MPI_Comm_rank(MPI_COMM_WORLD, &me);
   const double h = 1.3 * sqrt(7.8e-3 / 7800.0), cp = 477.0, kappa = 2e7, F = 0.1;
-  for (const auto &c : {std::make_pair(std::string(""), 1), std::make_pair(std::string("every 2 dirichlet top 300"), 2)}) {
+  const std::vector<std::pair<std::string, int>> cases = {{"", 1}, {"every 2 dirichlet top 300", 2}};
+  for (const auto &c : cases) {
     const auto cpu = dt_limit_run({}, c.first);
     const auto kk = dt_limit_run(KK_FULL, c.first);
     ASSERT_EQ(cpu.size(), 1501u);
