@@ -4,7 +4,8 @@
    One step on the device (doc/design.md):
      initial_integrate  one kernel: keep the old rates, kick, drift,
                         predictor, radial return (sphcut_solid.h)
-     pre_force          one kernel zeroing the rates, then the force state
+     pre_force          the rates were zeroed by initial_integrate (one kernel
+                        zeroing them only after reneighbouring), then the force state
                         to the ghosts by device forward communication
      final_integrate    one reduction: corrector, radial return, plastic
                         heat, and the sums the host needs (plastic work,
@@ -41,6 +42,7 @@
 #include "force.h"
 #include "memory_kokkos.h"
 #include "modify.h"
+#include "neighbor.h"
 #include "output.h"
 #include "pair.h"
 #include "update.h"
@@ -338,9 +340,15 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   auto mat = d_mat;
   const int gb = groupbit, tb = toolbit, cb = clampbit, use_rmass = atom->rmass_flag;
   const double dt = dtv, dtfh = dtf;
+  // the rates are zeroed here, after the predictor has saved them (DRHO_O, ...), instead of in a
+  // kernel of their own at pre_force: one launch fewer on steps without reneighbouring (pre_force
+  // zeroes them again where atoms may have moved, been exchanged or created)
   Kokkos::parallel_for("sphcut:sph:initial_integrate",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
-        if (!(mask(i) & gb)) return;
+        if (!(mask(i) & gb)) {
+          sphcut::zero_rates(&st(i, 0));
+          return;
+        }
         const int t = type(i);
         const double m = use_rmass ? rmass(i) : mass(t);
         double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
@@ -348,6 +356,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
         const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
         sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), tb, cb), dt, dtfh / m, xi, vi,
                                      fi, &st(i, 0));
+        sphcut::zero_rates(&st(i, 0));
         for (int d = 0; d < 3; d++) {
           x(i, d) = xi[d];
           v(i, d) = vi[d];
@@ -355,6 +364,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
       });
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, datamask_modify);
+  rates_zeroed_step = update->ntimestep;
+  rates_zeroed_nlocal = atom->nlocal;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -366,9 +377,15 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   if ((int) k_state.extent(0) < atom->nmax) grow_on_device(atom->nmax);
   k_state.template sync<DeviceType>();
   auto st = k_state.template view<DeviceType>();
-  Kokkos::parallel_for("sphcut:sph:pre_force",
-      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });
-  k_state.template modify<DeviceType>();
+  // zeroed by initial_integrate of this step unless the atoms were rebuilt since (reneighbouring:
+  // exchange, sorting, created atoms) or this is the setup
+  const bool zeroed = !update->setupflag && rates_zeroed_step == update->ntimestep && neighbor->ago != 0 &&
+      rates_zeroed_nlocal == atom->nlocal;
+  if (!zeroed) {
+    Kokkos::parallel_for("sphcut:sph:pre_force",
+        sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });
+    k_state.template modify<DeviceType>();
+  }
   // the force state to the ghosts: on the device unless LAMMPS takes the classic path
   sphcut::forward_comm(comm, this);
 }

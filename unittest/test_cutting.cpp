@@ -52,7 +52,9 @@ TEST(Cutting, QuickTi6Al4V)
   EXPECT_LT(ft, 300.0);
   EXPECT_GT(tmax, 350.0);           // plastic and friction heat
   EXPECT_LT(tmax, 1878.0);
-  EXPECT_LT(fabs(balance), 1.5e-5);    // measured 4.4e-6
+  // measured 3.8e-5 with the example's cfl 0.5 (4.4e-6 at cfl 0.3: the error grows about as
+  // dt^2-dt^3, doc/performance.md "The time step of the 2D cut")
+  EXPECT_LT(fabs(balance), 1.2e-4);
 
   // heat budget (issue 11 item 3) over workpiece and tool particles (fix heat/fmfs acts on all):
   // sum m cp dT = plastic heat chi W_p + friction heat (workpiece and tool shares) + heat in
