@@ -138,19 +138,20 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   double *s = sink.state();
   double *fc = s + SL::FCONT, *vc = s + SL::VCONT, *fm = s + SL::FMEM;
   double *fo = sink.output();
-  const double v[3] = {sink.v(0), sink.v(1), sink.v(2)};
+  // (the particle's position and velocity are read where they are used: on a GPU, values kept
+  // across the tool search cost registers)
   // energy over the step with the weights of velocity Verlet: the particle gains
   // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
   // The F^n half, with the contact force of the previous step (particles that had one).
   if (fc[0] != 0.0 || fc[1] != 0.0 || fc[2] != 0.0)
     for (int k = 0; k < dim; k++) {
       sink.add(CS_WORK_OLD, fc[k] * b.vtool[k]);
-      sink.add(CS_DISS_OLD, fc[k] * (b.vtool[k] - v[k]));
+      sink.add(CS_DISS_OLD, fc[k] * (b.vtool[k] - sink.v(k)));
     }
   fc[0] = fc[1] = fc[2] = 0.0;
   for (int k = 0; k < 6; k++) fo[k] = 0.0;
   if (!cs.setup) {
-    for (int k = 0; k < 3; k++) vc[k] = v[k];
+    for (int k = 0; k < 3; k++) vc[k] = sink.v(k);
     vc[3] = 1.0;
   }
   // friction memory: a step takes the last step's friction force as f_old, remembers it
@@ -159,13 +160,13 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   if (!candidate) return;
 
   const double h = sink.h();
-  const double x[3] = {sink.x(0), sink.x(1), sink.x(2)};
-  const double xt[3] = {x[0] - cs.disp[0], x[1] - cs.disp[1], dim == 2 ? 0.0 : x[2] - cs.disp[2]};
+  const double xt[3] = {sink.x(0) - cs.disp[0], sink.x(1) - cs.disp[1], dim == 2 ? 0.0 : sink.x(2) - cs.disp[2]};
   ContactIn in = b;
   double q[3];
   int region;
   const int best = tool_surface(cs.tool, xt, h, in.d, in.n, q, region);
   if (best < 0) return;
+  const double v[3] = {sink.v(0), sink.v(1), sink.v(2)};
   const double m = sink.mass();
   const double sp = sink.spacing();
   const double dp = sp > 0.0 ? sp : h / b.sfac;
@@ -179,13 +180,15 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   // run (restart, or a second run with unchanged velocities) the one of the last step
   const bool repeat =
       cs.setup && vc[3] > 0.0 && v[0] == s[SL::VEND] && v[1] == s[SL::VEND + 1] && v[2] == s[SL::VEND + 2];
-  const double *vuse = repeat ? vc : v;
+  double vuse[3] = {v[0], v[1], v[2]};    // (an array, not a pointer to v or vc: v stays in registers)
+  if (repeat)
+    for (int k = 0; k < 3; k++) vuse[k] = vc[k];
   // f_old of the memory law: at a step its input set above; a setup evaluation that repeats
   // the last step (a continued run) uses that step's input if the particle had friction then,
   // else the current state (zero after a contact ended)
   if (cs.fmemory) memory_friction_input(fm, !cs.setup, repeat, in.ft_old);
   for (int k = 0; k < 3; k++) {
-    in.x[k] = x[k];
+    in.x[k] = sink.x(k);
     in.v[k] = vuse[k];
     in.q[k] = q[k] + cs.disp[k];
     in.f_other[k] = k < dim ? sink.f(k) : 0.0;
@@ -222,7 +225,7 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
     sink.add(CS_FX + k, -out.f[k]);
     sink.add(CS_WORK, out.f[k] * b.vtool[k]);
     // friction + dashpot (+ spring) power
-    sink.add(CS_DISS, out.f[k] * (b.vtool[k] - v[k]));
+    sink.add(CS_DISS, out.f[k] * (b.vtool[k] - sink.v(k)));
   }
   sink.add(CS_FRIC, out.fric_power);
   contact_heat(cs, out.fric_power, m, sink);
