@@ -94,7 +94,7 @@ template <class DeviceType> struct ContactKernel {
   int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, nmu, ntp, kernel;
   double mu0;
   Kokkos::View<double *, mem> sums;    // NRED sums of this step, the NACCUM accumulators, the counters
-  typename AT::t_double_1d dtlim;      // the spring's dt limit for fix sph/jc-thermal/kk (k_dtlim)
+  typename AT::t_double_1d dtlim;      // the spring's dt limit: this fix's slot of fix sph/jc-thermal/kk
   double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
   // one record per contact (sphcut::contact_record, the feature, the penetration), in the order
   // the contacts take a slot from the counter sums(C_NREC + cur); the other is cleared (final)
@@ -417,7 +417,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.cur = rec_cur;
   fields_step();
   k.facc = d_facc;
-  k.dtlim = fixkk->k_dtlim.template view<DeviceType>();
+  k.dtlim = fixkk->dt_slot_view<DeviceType>(this);
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
   // the sums go to d_sums on the device, the accumulators and the dt limit are updated there
