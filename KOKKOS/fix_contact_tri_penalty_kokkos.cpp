@@ -2,12 +2,13 @@
    sphcut - fix contact/tri-penalty/kk
 
    post_force, on the device:
-     kernel 1 (one reduction over the local particles): the energy of the
-       previous step's contact force, the nearest tool element within 2h
-       (sphcut_contact.h tool_surface), the spring's dt limit, the contact
+     kernel 1 (one reduction over the local particles): each particle's
+       contact step (sphcut_contact_step.h contact_step, the CPU fix's
+       too): the energy of the previous step's contact force, the nearest
+       tool element within 2h, the spring's dt limit, the contact
        (penalty_contact), the force added to f, the friction heat to the
        particle (its temperature rate) and, for the tool's share, the heat
-       per kernel weight of the tool particles around it
+       per kernel weight of the tool particles around it (ContactKernel::Sink)
      forward communication of that heat per weight to the ghosts
      kernel 2 (tool particles): each gathers the heat of the contact
        particles around it, kernel weighted (the CPU fix scatters the same
@@ -50,13 +51,17 @@ using namespace FixConst;
 namespace {
 
 // the sums of the contact kernel (a short list: each GPU thread keeps them in shared memory):
-// R_FX.. are added, R_DTCRIT minimised.  R_TWORK and R_DISS hold both rates of the step's
+// R_FX.. are added, R_DTCRIT minimised; the first ten are sphcut::contact_step's sums
+// (sphcut::ContactSum, the same numbers).  R_TWORK and R_DISS hold both rates of the step's
 // trapezoid, the previous contact force's and this one's (the host needs only their sum).  Not
 // among them: the contacts (counted by the slots of their records), the decomposition by tool
 // feature and the deepest penetration (from the records, when they are read: record_sums())
 enum {
-  R_FX = 0, R_FY, R_FZ, R_TWORK, R_DISS, R_FRIC, R_QWORK, R_QLOST, R_QLUMP, R_QTOOL, R_QSRC, R_DTCRIT, NRED
+  R_FX = sphcut::CS_FX, R_FY, R_FZ, R_TWORK = sphcut::CS_WORK, R_DISS = sphcut::CS_DISS, R_FRIC = sphcut::CS_FRIC,
+  R_QWORK = sphcut::CS_QWORK, R_QLOST, R_QLUMP, R_QTOOL = sphcut::CS_QTOOL, R_QSRC, R_DTCRIT, NRED
 };
+static_assert((int) R_FZ == (int) sphcut::CS_FZ && (int) R_QLUMP == (int) sphcut::CS_QLUMP,
+              "the reduction's sums follow sphcut::ContactSum");
 
 // the device accumulators after the NRED sums of the last step (FixContactTriPenaltyKokkos::d_sums):
 // what the host adds to its totals when it next reads them (fetch)
@@ -72,6 +77,8 @@ template <class DeviceType> struct ContactKernel {
   const unsigned value_count = NRED;
   typedef ArrayTypes<DeviceType> AT;
   typedef typename DeviceType::memory_space mem;
+  using SL = sphcut::StateLayout;
+  sphcut::ContactStep step;    // the same for every particle (FixContactTriPenalty::step_params, device copies)
   typename sphcut::AtomTypes<DeviceType>::x_const x;
   typename sphcut::AtomTypes<DeviceType>::v_const v;
   typename sphcut::AtomTypes<DeviceType>::f f;
@@ -84,13 +91,8 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_int_1d_const numneigh;
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
-  Kokkos::View<const int *, mem> feature;    // tool feature of each element
-  sphcut::TriBinView view;
-  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, dim, setup, nmu, ntp, kernel;
-  int has_heat, tool_particles, lumped, fmemory;
-  double disp[3], vtool[3];
-  double dt, etool, pfac, dfac, sfac, mu0, eta, split;
-  sphcut::ContactIn params;    // the fields common to all particles (FixContactTriPenalty::contact_params)
+  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, nmu, ntp, kernel;
+  double mu0;
   Kokkos::View<double *, mem> sums;    // NRED sums of this step, the NACCUM accumulators, the counters
   typename AT::t_double_1d dtlim;      // the spring's dt limit: this fix's slot of fix sph/jc-thermal/kk
   double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
@@ -99,12 +101,7 @@ template <class DeviceType> struct ContactKernel {
   typedef FixContactTriPenaltyKokkos<DeviceType> FK;
   Kokkos::View<double *[FK::NREC], mem> rec;
   int cur;
-  // tool fields per facet (sphcut_contact.h facet_scatter): the running interval's sums
-  int fields;
-  double wear_K, wear_alpha;
-  sphcut::FacetShare share;
-  Kokkos::View<const double *, mem> inv_area;
-  Kokkos::View<double *, mem> facc;
+  Kokkos::View<double *, mem> facc;    // tool fields per facet: the running interval's sums
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -125,155 +122,92 @@ template <class DeviceType> struct ContactKernel {
     sums(NRED + A_QTOOL) += r[R_QTOOL];
     sums(NRED + A_QSRC) += r[R_QSRC];
     sums(NRED + A_QLUMP) += r[R_QLUMP];
-    if (!setup) {
-      sums(NRED + A_TWORK) += 0.5 * dt * r[R_TWORK];
-      sums(NRED + A_DISS) += 0.5 * dt * r[R_DISS];
+    if (!step.setup) {
+      sums(NRED + A_TWORK) += 0.5 * step.dt * r[R_TWORK];
+      sums(NRED + A_DISS) += 0.5 * step.dt * r[R_DISS];
     }
     dtlim(0) = r[R_DTCRIT] < 1.0e300 ? dtscale * r[R_DTCRIT] : 1.0e300;
     sums(C_NREC + 1 - cur) = 0.0;
   }
 
-  // heat (energy/time) into particle i's temperature rate, as FixHeatFMFS::add_heat; true if taken
-  KOKKOS_INLINE_FUNCTION bool add_heat(int i, double m, double power) const
-  {
-    if (!(mask(i) & heatbit)) return false;
-    const double cp = mat(type(i)).cp;
-    if (cp <= 0.0) return false;
-    state(i, FixSPHJCThermal::DTEMP) += power / (m * cp);
-    return true;
-  }
+  // particle i as sphcut::contact_step sees it: reads of the views, writes into the views and
+  // this thread's sums r
+  struct Sink {
+    const ContactKernel &k;
+    const int i, it;    // it: the type (candidates only)
+    double *r;
+    KOKKOS_INLINE_FUNCTION double v(int d) const { return k.v(i, d); }
+    KOKKOS_INLINE_FUNCTION double x(int d) const { return k.x(i, d); }
+    KOKKOS_INLINE_FUNCTION double f(int d) const { return k.f(i, d); }
+    KOKKOS_INLINE_FUNCTION double h() const { return k.h(it); }
+    KOKKOS_INLINE_FUNCTION double spacing() const { return k.dp(it); }
+    KOKKOS_INLINE_FUNCTION double E() const { return k.mat(it).E; }
+    KOKKOS_INLINE_FUNCTION double mass() const { return k.use_rmass ? k.rmass(i) : k.mass(it); }
+    KOKKOS_INLINE_FUNCTION double mu(double temp) const
+    {
+      return k.nmu > 0 ? sphcut::mu_table(&k.mut(0), &k.muv(0), k.nmu, temp) : k.mu0;
+    }
+    KOKKOS_INLINE_FUNCTION double *state() const { return &k.state(i, 0); }
+    KOKKOS_INLINE_FUNCTION double *output() const { return &k.fout(i, 0); }
+    // the reduction holds both halves of the step's work and dissipation in one sum each
+    KOKKOS_INLINE_FUNCTION void add(int c, double val) const
+    {
+      r[c == sphcut::CS_WORK_OLD ? R_TWORK : (c == sphcut::CS_DISS_OLD ? R_DISS : c)] += val;
+    }
+    KOKKOS_INLINE_FUNCTION void add_force(int d, double val) const { k.f(i, d) += val; }
+    KOKKOS_INLINE_FUNCTION void dt_crit(double d) const
+    {
+      if (d < r[R_DTCRIT]) r[R_DTCRIT] = d;
+    }
+    // the record (decomposition by tool feature, penetration) in the next slot
+    KOKKOS_INLINE_FUNCTION void record(int feat, const double *dr, double pen) const
+    {
+      const int slot = (int) Kokkos::atomic_fetch_add(&k.sums(C_NREC + k.cur), 1.0);
+      if (slot < (int) k.rec.extent(0)) {    // (always: one slot per local particle)
+        for (int c = 0; c < sphcut::NDREC; c++) k.rec(slot, c) = dr[c];
+        k.rec(slot, FK::REC_FEAT) = feat;
+        k.rec(slot, FK::REC_PEN) = pen;
+      }
+    }
+    KOKKOS_INLINE_FUNCTION void facet(int fct, const double *c) const
+    {
+      for (int j = 0; j < sphcut::NFS; j++) Kokkos::atomic_add(&k.facc(fct * sphcut::NFS + j), c[j]);
+    }
+    // heat into the particle's temperature rate, as FixHeatFMFS::add_heat
+    KOKKOS_INLINE_FUNCTION void heat_particle(double q, double m, double acc) const
+    {
+      if (!(k.mask(i) & k.heatbit)) return;
+      const double cp = k.mat(it).cp;
+      if (cp <= 0.0) return;
+      k.state(i, SL::DTEMP) += q / (m * cp);
+      r[R_QSRC] += q * acc;
+    }
+    // the tool particles within the kernel support share q by kernel weight: the heat per
+    // weight here, gathered by them in tool_heat_gather
+    KOKKOS_INLINE_FUNCTION bool heat_tool(double q) const
+    {
+      double wsum = 0.0;
+      for (int jj = 0; jj < k.numneigh(i); jj++) {
+        const int j = k.neighbors(i, jj) & NEIGHMASK;
+        if (!(k.mask(j) & k.toolbit)) continue;
+        double r2 = 0.0;
+        for (int d = 0; d < 3; d++) r2 += (k.x(i, d) - k.x(j, d)) * (k.x(i, d) - k.x(j, d));
+        wsum += sphcut::tool_heat_weight(k.kernel, k.step.base.dim, r2, k.hij(it * k.ntp + k.type(j)));
+      }
+      if (!(wsum > 0.0)) return false;
+      k.qtw(i, 0) = q / wsum;
+      return true;
+    }
+  };
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
-    using F = FixSPHJCThermal;
-    double *s = &state(i, 0);
-    double *fc = s + F::FCONT, *vc = s + F::VCONT, *fm = s + F::FMEM;
-    // the previous step's contact force (only particles that were in contact have one)
-    if (fc[0] != 0.0 || fc[1] != 0.0 || fc[2] != 0.0) {
-      for (int k = 0; k < dim; k++) {
-        r[R_TWORK] += fc[k] * vtool[k];
-        r[R_DISS] += fc[k] * (vtool[k] - v(i, k));
-      }
-      fc[0] = fc[1] = fc[2] = 0.0;
-    }
-    for (int k = 0; k < 6; k++) fout(i, k) = 0.0;
     qtw(i, 0) = 0.0;
-    if (!setup) {
-      for (int k = 0; k < 3; k++) vc[k] = v(i, k);
-      vc[3] = 1.0;
-    }
-    if (fmemory && !setup) sphcut::memory_friction_step(fm);
-    if (!(mask(i) & groupbit) || (mask(i) & toolbit) ||
-        sphcut::role_from_mask(mask(i), fixtoolbit, fixclampbit) == F::TOOL)
-      return;
-    const int it = type(i);
-    const double hi = h(it);
-    const double xt[3] = {x(i, 0) - disp[0], x(i, 1) - disp[1], dim == 2 ? 0.0 : x(i, 2) - disp[2]};
-    sphcut::ContactIn in = params;
-    double q[3];
-    int region;
-    const int best = sphcut::tool_surface(view, xt, hi, in.d, in.n, q, region);
-    if (best < 0) return;
-    const double mi = use_rmass ? rmass(i) : mass(it);
-    const double dpi = dp(it) > 0.0 ? dp(it) : hi / sfac;
-    double vuse[3] = {v(i, 0), v(i, 1), v(i, 2)};
-    if (sphcut::near_contact(in.d, hi, sfac, vuse, vtool, dim, dt)) {
-      const double kk = sphcut::penalty_stiffness(mat(it).E, etool, dpi, pfac, dim);
-      const double d = sphcut::penalty_dt_limit(kk, mi, dfac, 1.0);
-      if (d < r[R_DTCRIT]) r[R_DTCRIT] = d;
-    }
-    if (0.5 * hi / sfac - in.d <= 0.0) return;
-    const bool repeat =
-        setup && vc[3] > 0.0 && v(i, 0) == s[F::VEND] && v(i, 1) == s[F::VEND + 1] && v(i, 2) == s[F::VEND + 2];
-    if (repeat)
-      for (int k = 0; k < 3; k++) vuse[k] = vc[k];
-    for (int k = 0; k < 3; k++) {
-      in.x[k] = x(i, k);
-      in.v[k] = vuse[k];
-      in.q[k] = q[k] + disp[k];
-      in.f_other[k] = k < dim ? f(i, k) : 0.0;
-    }
-    in.mass = mi;
-    in.h = hi;
-    in.E_particle = mat(it).E;
-    in.dp = dpi;
-    in.mu = nmu > 0 ? sphcut::mu_table(&mut(0), &muv(0), nmu, s[F::TEMP_F]) : mu0;
-    if (fmemory) sphcut::memory_friction_input(fm, !setup, repeat, in.ft_old);
-    sphcut::ContactOut out;
-    sphcut::penalty_contact(in, out);
-    if (!out.active) return;
-    if (fmemory && !setup)
-      for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
-    {
-      // the record: the decomposition by the tool feature of the nearest element, the penetration
-      const int feat = feature(best);
-      double dr[sphcut::NDREC];
-      sphcut::contact_record(out, in.n, dr);
-      const int slot = (int) Kokkos::atomic_fetch_add(&sums(C_NREC + cur), 1.0);
-      if (slot < (int) rec.extent(0)) {    // (always: one slot per local particle)
-        for (int k = 0; k < sphcut::NDREC; k++) rec(slot, k) = dr[k];
-        rec(slot, FK::REC_FEAT) = feat;
-        rec(slot, FK::REC_PEN) = out.delta / (0.5 * hi / sfac);
-      }
-      fout(i, 3) = out.fn;
-      fout(i, 4) = dr[sphcut::DREC_FT];
-      fout(i, 5) = feat + 1;
-    }
-    if (fields && !setup) {
-      sphcut::facet_scatter(share, inv_area.data(), best, region, out, s[F::TEMP_F], wear_K, wear_alpha, dt,
-                            [&](int fct, const double *c) {
-                              for (int k = 0; k < sphcut::NFS; k++) Kokkos::atomic_add(&facc(fct * sphcut::NFS + k), c[k]);
-                            });
-    }
-    sphcut::contact_drift(&s[F::XSPH], in.n);    // no XSPH drift along the contact normal
-    for (int k = 0; k < dim; k++) {
-      f(i, k) += out.f[k];
-      fc[k] = out.f[k];
-      fout(i, k) = out.f[k];
-      r[R_FX + k] -= out.f[k];
-      r[R_TWORK] += out.f[k] * vtool[k];
-      r[R_DISS] += out.f[k] * (vtool[k] - v(i, k));
-    }
-    r[R_FRIC] += out.fric_power;
-
-    const double qf = eta * out.fric_power;
-    if (qf <= 0.0) return;
-    const double acc = setup ? 0.0 : dt;
-    const double qw = split * qf;
-    if (qw > 0.0) {
-      if (has_heat) {
-        if (add_heat(i, mi, qw)) r[R_QSRC] += qw * acc;
-        r[R_QWORK] += qw * acc;
-      } else {
-        r[R_QLOST] += qw * acc;
-      }
-    }
-    const double qt = qf - qw;
-    if (qt <= 0.0) return;
-    if (tool_particles && has_heat) {
-      // the tool particles within the kernel support share it by kernel weight (kernel 2)
-      double wsum = 0.0;
-      for (int jj = 0; jj < numneigh(i); jj++) {
-        const int j = neighbors(i, jj) & NEIGHMASK;
-        if (!(mask(j) & toolbit)) continue;
-        double r2 = 0.0;
-        for (int k = 0; k < 3; k++) r2 += (x(i, k) - x(j, k)) * (x(i, k) - x(j, k));
-        const double hh = hij(it * ntp + type(j));
-        if (r2 >= 4.0 * hh * hh) continue;
-        wsum += sphcut::kernel_w(kernel, dim, sqrt(r2), hh);
-      }
-      if (wsum > 0.0) {
-        qtw(i, 0) = qt / wsum;
-        r[R_QTOOL] += qt * acc;
-        return;
-      }
-    }
-    if (lumped) {
-      r[R_QLUMP] += qt * acc;
-      r[R_QTOOL] += qt * acc;
-    } else {
-      r[R_QLOST] += qt * acc;
-    }
+    const int m = mask(i);
+    const bool candidate =
+        (m & groupbit) && !(m & toolbit) && sphcut::role_from_mask(m, fixtoolbit, fixclampbit) != SL::TOOL;
+    Sink sink{*this, i, candidate ? type(i) : 0, r};
+    sphcut::contact_step(step, candidate, sink);
   }
 };
 
@@ -435,6 +369,13 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   if (!update->setupflag || dt_last <= 0.0) dt_last = dt;
 
   ContactKernel<DeviceType> k;
+  // what is the same for every particle, with the device copies of the tool and its facet tables
+  k.step = step_params(dt_last);
+  k.step.tool = d_view;
+  k.step.feature = d_feature.data();
+  k.step.share.start = d_share_start.data();
+  k.step.share.elem = d_share_elem.data();
+  k.step.inv_area = d_inv_area.data();
   k.x = atomKK->k_x.view<DeviceType>();
   k.v = atomKK->k_v.view<DeviceType>();
   k.f = atomKK->k_f.view<DeviceType>();
@@ -445,10 +386,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.state = fixkk->k_state.template view<DeviceType>();
   k.qtw = k_qtw.template view<DeviceType>();
   k.fout = k_fout.template view<DeviceType>();
-  k.feature = d_feature;
-  k.fmemory = fmemory;
-  const int tool_particles = toolbit && list;
-  if (tool_particles) {
+  if (k.step.tool_particles) {
     auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
     k.neighbors = kl->d_neighbors;
     k.numneigh = kl->d_numneigh;
@@ -459,34 +397,16 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.hij = d_hij;
   k.mut = d_mut;
   k.muv = d_muv;
-  k.view = d_view;
   k.groupbit = groupbit;
   k.toolbit = toolbit;
   k.fixtoolbit = fix->toolbit;
   k.fixclampbit = fix->clampbit;
   k.heatbit = heat ? heat->groupbit : 0;
   k.use_rmass = atom->rmass_flag;
-  k.dim = domain->dimension;
-  k.setup = update->setupflag;
   k.nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
   k.ntp = atom->ntypes + 1;
   k.kernel = model->kernel();
-  k.has_heat = heat != nullptr;
-  k.tool_particles = tool_particles;
-  k.lumped = tool_cp > 0.0;
-  for (int d = 0; d < 3; d++) {
-    k.disp[d] = disp[d];
-    k.vtool[d] = vtool[d];
-  }
-  k.dt = dt;
-  k.etool = etool;
-  k.pfac = pfac;
-  k.dfac = dfac;
-  k.sfac = sfac;
   k.mu0 = mu0;
-  k.eta = eta;
-  k.split = split;
-  k.params = contact_params(dt_last);
   if ((int) d_sums.extent(0) != NSUMS) {
     d_sums = Kokkos::View<double *, mem>("contact:sums", NSUMS);    // zeroed (the counters too)
     h_sums = Kokkos::create_mirror_view(d_sums);
@@ -496,12 +416,6 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.rec = d_rec;
   k.cur = rec_cur;
   fields_step();
-  k.fields = fields.every;
-  k.wear_K = fields.K;
-  k.wear_alpha = fields.alpha;
-  k.share.start = d_share_start.data();
-  k.share.elem = d_share_elem.data();
-  k.inv_area = d_inv_area;
   k.facc = d_facc;
   k.dtlim = fixkk->dt_slot_view<DeviceType>(this);
   k.dtscale = dtfac * fixkk->courant();
@@ -518,7 +432,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   stale = 1;
   records_stale = 1;
   rec_cur = 1 - rec_cur;
-  if (tool_particles && heat) {
+  if (k.step.tool_particles && heat) {
     sphcut::forward_comm(comm, this);
     tool_heat_gather();
   }
@@ -615,9 +529,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
           if (!(qtw(i, 0) > 0.0)) continue;
           double r2 = 0.0;
           for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - av.x(j, k)) * (av.x(i, k) - av.x(j, k));
-          const double hh = hij(av.type(i) * ntp + av.type(j));
-          if (r2 >= 4.0 * hh * hh) continue;
-          p += qtw(i, 0) * sphcut::kernel_w(kern, dim, sqrt(r2), hh);
+          const double w = sphcut::tool_heat_weight(kern, dim, r2, hij(av.type(i) * ntp + av.type(j)));
+          if (w > 0.0) p += qtw(i, 0) * w;
         }
         if (!(p > 0.0) || !(av.mask(j) & hb)) return;
         const double cp = mat(av.type(j)).cp;

@@ -59,205 +59,275 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
   for (int f = 0; f < NFEAT; f++)
     for (int c = 0; c < NDECOMP; c++) decomp[f][c] = 0.0;
-  std::string geom;
-  std::vector<std::string> gargs;
-  sphcut::StlTransform tf;
-  int has_transform = 0;
-  int split_given = 0;
+  ToolSpec spec;
+  parse_keywords(narg, arg, spec);
+  check_keywords(spec);
+  load_geometry(spec);
+  declare_outputs();
+  // the per-atom data that must follow the atoms (last contact force, the velocity it used)
+  // lives in fix sph/jc-thermal's state (columns FCONT, VCONT); fcontact is the output copy
+  grow_output();
+  fields_setup();
+}
 
+/* ----------------------------------------------------------------------
+   the keywords, in groups: tool (geometry, motion, output), contact (stiffness, damping,
+   friction), heat; then the tool fields' (fix_contact_tri_penalty_fields.cpp).  Each group's
+   parser returns the number of arguments it used, 0 when the keyword is not one of its own.
+------------------------------------------------------------------------- */
+
+void FixContactTriPenalty::parse_keywords(int narg, char **arg, ToolSpec &spec)
+{
   int iarg = 3;
-  auto need = [&](int n, const std::string &kw) {
-    if (iarg + n >= narg) error->all(FLERR, "Fix contact/tri-penalty: keyword {} needs {} value(s)", kw, n);
-  };
-  auto num = [&](int k) { return utils::numeric(FLERR, arg[iarg + k], false, lmp); };
   while (iarg < narg) {
     const std::string kw = arg[iarg];
-    if (kw == "stl") {
-      need(1, kw);
-      geom = "stl";
-      gargs = {arg[iarg + 1]};
-      iarg += 2;
-    } else if (kw == "insert") {
-      // insert rake G clearance A radius R rake_length L flank_length F [width W] [segments N] [face_segments M]
-      geom = "insert";
-      gargs.clear();
-      iarg++;
-      while (iarg + 1 < narg) {
-        const std::string k = arg[iarg];
-        if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" &&
-            k != "flank_length" && k != "width" && k != "segments" && k != "face_segments")
-          break;
-        if (k == "segments" || k == "face_segments")
-          sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert " + k, arg[iarg + 1]);
-        else num(1);    // a LAMMPS error here if the value is not a number
-        gargs.push_back(k);
-        gargs.push_back(arg[iarg + 1]);
-        iarg += 2;
-      }
-    } else if (kw == "scale") {
-      need(1, kw);
-      tf.scale = num(1);
-      if (tf.scale <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: scale must be > 0, got {}", tf.scale);
-      has_transform = 1;
-      iarg += 2;
-    } else if (kw == "move") {
-      need(3, kw);
-      for (int k = 0; k < 3; k++) tf.shift[k] = num(k + 1);
-      iarg += 4;
-    } else if (kw == "rotate") {
-      need(4, kw);
-      const double axis[3] = {num(2), num(3), num(4)};
-      if (axis[0] == 0.0 && axis[1] == 0.0 && axis[2] == 0.0)
-        error->all(FLERR, "Fix contact/tri-penalty: rotate axis must not be zero");
-      tf.set_axis_angle(axis, num(1));
-      has_transform = 1;
-      iarg += 5;
-    } else if (kw == "velocity") {
-      need(3, kw);
-      for (int k = 0; k < 3; k++) {
-        const std::string v = arg[iarg + 1 + k];
-        if (utils::strmatch(v, "^v_")) vvar[k] = v.substr(2);
-        else vconst[k] = num(k + 1);
-        // utils::numeric takes 1e999 as inf
-        if (!std::isfinite(vconst[k]))
-          error->all(FLERR, "Fix contact/tri-penalty: velocity {} is not a finite number", v);
-      }
-      iarg += 4;
-    } else if (kw == "E") {
-      need(1, kw);
-      etool = num(1);
-      if (etool <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: E must be > 0, got {}", etool);
-      iarg += 2;
-    } else if (kw == "pfac" || kw == "dfac" || kw == "sfac" || kw == "vreg" || kw == "eta") {
-      need(1, kw);
-      const double v = num(1);
-      if (kw == "pfac") pfac = v;
-      else if (kw == "dfac") dfac = v;
-      else if (kw == "sfac") sfac = v;
-      else if (kw == "vreg") {
-        vreg = v;
-        vreg_set = 1;
-      } else eta = v;
-      if ((kw == "pfac" || kw == "sfac") && v <= 0.0)
-        error->all(FLERR, "Fix contact/tri-penalty: {} must be > 0, got {}", kw, v);
-      if ((kw == "dfac" || kw == "vreg") && v < 0.0)
-        error->all(FLERR, "Fix contact/tri-penalty: {} must be >= 0, got {}", kw, v);
-      if (kw == "eta" && (v < 0.0 || v > 1.0))
-        error->all(FLERR, "Fix contact/tri-penalty: eta must be in [0,1], got {}", v);
-      iarg += 2;
-    } else if (kw == "dtfac") {
-      need(1, kw);
-      dtfac = num(1);
-      if (!(dtfac > 0.0 && dtfac <= 1.0)) error->all(FLERR, "Fix contact/tri-penalty: dtfac must be in (0,1], got {}", arg[iarg + 1]);
-      iarg += 2;
-    } else if (kw == "onset") {
-      need(1, kw);
-      onset = num(1);
-      if (!(onset >= 0.0 && onset < 1.0))
-        error->all(FLERR, "Fix contact/tri-penalty: onset must be in [0,1), got {}", arg[iarg + 1]);
-      iarg += 2;
-    } else if (kw == "stick") {
-      need(1, kw);
-      const std::string v = arg[iarg + 1];
-      if (v == "yes") stick = 1;
-      else if (v == "no") stick = 0;
-      else error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
-      stick_given = 1;
-      iarg += 2;
-    } else if (kw == "friction") {
-      need(1, kw);
-      const std::string v = arg[iarg + 1];
-      if (v == "static") stick = 1;
-      else if (v == "coulomb") stick = 0;
-      else if (v == "memory") fmemory = 1;
-      else error->all(FLERR, "Fix contact/tri-penalty: friction must be static, coulomb or memory, got {}", v);
-      if (v != "memory") fmemory = 0;
-      friction_given = 1;
-      iarg += 2;
-    } else if (kw == "tfac") {
-      need(1, kw);
-      tfac = num(1);
-      if (tfac <= 0.0 || tfac > 1.0) error->all(FLERR, "Fix contact/tri-penalty: tfac must be in (0,1], got {}", tfac);
-      tfac_given = 1;
-      iarg += 2;
-    } else if (kw == "mu") {
-      need(1, kw);
-      const std::string v = arg[iarg + 1];
-      if (v == "table") {
-        need(2, kw);
-        mustyle = MU_TABLE;
-        std::ifstream in(arg[iarg + 2]);
-        if (!in) error->all(FLERR, "Fix contact/tri-penalty: cannot open mu table {}", arg[iarg + 2]);
-        std::string line;
-        while (std::getline(in, line)) {
-          const auto p = line.find('#');
-          if (p != std::string::npos) line.erase(p);
-          std::istringstream ss(line);
-          double t, m;
-          if (!(ss >> t)) continue;
-          if (!(ss >> m)) error->all(FLERR, "Fix contact/tri-penalty: mu table {}: line '{}' needs T mu", arg[iarg + 2], line);
-          if (!mu_t.empty() && t <= mu_t.back())
-            error->all(FLERR, "Fix contact/tri-penalty: mu table {}: temperatures must increase", arg[iarg + 2]);
-          if (m < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu table {}: negative mu {}", arg[iarg + 2], m);
-          mu_t.push_back(t);
-          mu_v.push_back(m);
-        }
-        if (mu_t.empty()) error->all(FLERR, "Fix contact/tri-penalty: mu table {} is empty", arg[iarg + 2]);
-        iarg += 3;
-      } else if (utils::strmatch(v, "^v_")) {
-        // mu v_name tvar NAME: equal-style variable of the internal variable NAME (the temperature)
-        if (iarg + 3 >= narg || std::string(arg[iarg + 2]) != "tvar")
-          error->all(FLERR, "Fix contact/tri-penalty: mu v_{} needs 'tvar NAME' (an internal variable)", v.substr(2));
-        mustyle = MU_VARIABLE;
-        mu_var = v.substr(2);
-        mu_tvar = arg[iarg + 3];
-        iarg += 4;
-      } else {
-        mustyle = MU_CONST;
-        mu0 = num(1);
-        if (mu0 < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu must be >= 0, got {}", mu0);
-        iarg += 2;
-      }
-    } else if (kw == "heat") {
-      need(1, kw);
-      id_heat = arg[iarg + 1];
-      iarg += 2;
-    } else if (kw == "split") {
-      need(1, kw);
-      split_given = 1;
-      if (std::string(arg[iarg + 1]) == "auto") split_auto = 1;
-      else {
-        split = num(1);
-        if (split < 0.0 || split > 1.0) error->all(FLERR, "Fix contact/tri-penalty: split must be in [0,1] or auto, got {}", split);
-      }
-      iarg += 2;
-    } else if (kw == "tool_particles") {
-      need(1, kw);
-      const int ig = group->find(arg[iarg + 1]);
-      if (ig < 0) error->all(FLERR, "Fix contact/tri-penalty: tool_particles group {} does not exist", arg[iarg + 1]);
-      tool_group = arg[iarg + 1];
-      toolbit = group->bitmask[ig];
-      iarg += 2;
-    } else if (kw == "tool_cp") {
-      need(2, kw);
-      tool_cp = num(1);
-      tool_temp = num(2);
-      if (tool_cp <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: tool_cp must be > 0, got {}", tool_cp);
-      iarg += 3;
-    } else if (kw == "write") {
-      need(2, kw);
-      write_every = sphcut::parse_int(lmp, "Fix contact/tri-penalty", "write interval", arg[iarg + 1]);
-      write_file = arg[iarg + 2];
-      if (!utils::strmatch(write_file, "\\.vtk$") && !utils::strmatch(write_file, "\\.stl$"))
-        error->all(FLERR, "Fix contact/tri-penalty: write file {} must end in .vtk or .stl", write_file);
-      iarg += 3;
-    } else if (const int nused = fields_parse(kw, iarg, narg, arg)) {
-      iarg += nused;
-    } else {
-      error->all(FLERR, "Fix contact/tri-penalty: unknown keyword {}", kw);
-    }
+    int nused = parse_tool_keyword(kw, iarg, narg, arg, spec);
+    if (!nused) nused = parse_contact_keyword(kw, iarg, narg, arg);
+    if (!nused) nused = parse_heat_keyword(kw, iarg, narg, arg);
+    if (!nused) nused = fields_parse(kw, iarg, narg, arg);
+    if (!nused) error->all(FLERR, "Fix contact/tri-penalty: unknown keyword {}", kw);
+    iarg += nused;
   }
-  if (geom.empty()) error->all(FLERR, "Fix contact/tri-penalty: no tool geometry (keyword stl or insert)");
+}
+
+// keyword kw at arg[iarg] needs n values
+void FixContactTriPenalty::need_values(int iarg, int narg, int n, const std::string &kw) const
+{
+  if (iarg + n >= narg) error->all(FLERR, "Fix contact/tri-penalty: keyword {} needs {} value(s)", kw, n);
+}
+
+double FixContactTriPenalty::number(const char *s) const
+{
+  return utils::numeric(FLERR, s, false, lmp);
+}
+
+// stl FILE, insert ..., scale, move, rotate, velocity, write
+int FixContactTriPenalty::parse_tool_keyword(const std::string &kw, int iarg, int narg, char **arg, ToolSpec &spec)
+{
+  if (kw == "stl") {
+    need_values(iarg, narg, 1, kw);
+    spec.kind = "stl";
+    spec.args = {arg[iarg + 1]};
+    return 2;
+  }
+  if (kw == "insert") {
+    // insert rake G clearance A radius R rake_length L flank_length F [width W] [segments N] [face_segments M]
+    spec.kind = "insert";
+    spec.args.clear();
+    int i = iarg + 1;
+    while (i + 1 < narg) {
+      const std::string k = arg[i];
+      if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" && k != "flank_length" &&
+          k != "width" && k != "segments" && k != "face_segments")
+        break;
+      if (k == "segments" || k == "face_segments")
+        sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert " + k, arg[i + 1]);
+      else number(arg[i + 1]);    // a LAMMPS error here if the value is not a number
+      spec.args.push_back(k);
+      spec.args.push_back(arg[i + 1]);
+      i += 2;
+    }
+    return i - iarg;
+  }
+  if (kw == "scale") {
+    need_values(iarg, narg, 1, kw);
+    spec.tf.scale = number(arg[iarg + 1]);
+    if (spec.tf.scale <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: scale must be > 0, got {}", spec.tf.scale);
+    spec.has_transform = 1;
+    return 2;
+  }
+  if (kw == "move") {
+    need_values(iarg, narg, 3, kw);
+    for (int k = 0; k < 3; k++) spec.tf.shift[k] = number(arg[iarg + 1 + k]);
+    return 4;
+  }
+  if (kw == "rotate") {
+    need_values(iarg, narg, 4, kw);
+    const double axis[3] = {number(arg[iarg + 2]), number(arg[iarg + 3]), number(arg[iarg + 4])};
+    if (axis[0] == 0.0 && axis[1] == 0.0 && axis[2] == 0.0)
+      error->all(FLERR, "Fix contact/tri-penalty: rotate axis must not be zero");
+    spec.tf.set_axis_angle(axis, number(arg[iarg + 1]));
+    spec.has_transform = 1;
+    return 5;
+  }
+  if (kw == "velocity") {
+    need_values(iarg, narg, 3, kw);
+    for (int k = 0; k < 3; k++) {
+      const std::string v = arg[iarg + 1 + k];
+      if (utils::strmatch(v, "^v_")) vvar[k] = v.substr(2);
+      else vconst[k] = number(arg[iarg + 1 + k]);
+      // utils::numeric takes 1e999 as inf
+      if (!std::isfinite(vconst[k]))
+        error->all(FLERR, "Fix contact/tri-penalty: velocity {} is not a finite number", v);
+    }
+    return 4;
+  }
+  if (kw == "write") {
+    need_values(iarg, narg, 2, kw);
+    write_every = sphcut::parse_int(lmp, "Fix contact/tri-penalty", "write interval", arg[iarg + 1]);
+    write_file = arg[iarg + 2];
+    if (!utils::strmatch(write_file, "\\.vtk$") && !utils::strmatch(write_file, "\\.stl$"))
+      error->all(FLERR, "Fix contact/tri-penalty: write file {} must end in .vtk or .stl", write_file);
+    return 3;
+  }
+  return 0;
+}
+
+// E, pfac, dfac, sfac, vreg, eta, dtfac, onset, stick, friction, tfac, mu
+int FixContactTriPenalty::parse_contact_keyword(const std::string &kw, int iarg, int narg, char **arg)
+{
+  if (kw == "E") {
+    need_values(iarg, narg, 1, kw);
+    etool = number(arg[iarg + 1]);
+    if (etool <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: E must be > 0, got {}", etool);
+    return 2;
+  }
+  if (kw == "pfac" || kw == "dfac" || kw == "sfac" || kw == "vreg" || kw == "eta") {
+    need_values(iarg, narg, 1, kw);
+    const double v = number(arg[iarg + 1]);
+    if (kw == "pfac") pfac = v;
+    else if (kw == "dfac") dfac = v;
+    else if (kw == "sfac") sfac = v;
+    else if (kw == "vreg") {
+      vreg = v;
+      vreg_set = 1;
+    } else eta = v;
+    if ((kw == "pfac" || kw == "sfac") && v <= 0.0)
+      error->all(FLERR, "Fix contact/tri-penalty: {} must be > 0, got {}", kw, v);
+    if ((kw == "dfac" || kw == "vreg") && v < 0.0)
+      error->all(FLERR, "Fix contact/tri-penalty: {} must be >= 0, got {}", kw, v);
+    if (kw == "eta" && (v < 0.0 || v > 1.0))
+      error->all(FLERR, "Fix contact/tri-penalty: eta must be in [0,1], got {}", v);
+    return 2;
+  }
+  if (kw == "dtfac") {
+    need_values(iarg, narg, 1, kw);
+    dtfac = number(arg[iarg + 1]);
+    if (!(dtfac > 0.0 && dtfac <= 1.0)) error->all(FLERR, "Fix contact/tri-penalty: dtfac must be in (0,1], got {}", arg[iarg + 1]);
+    return 2;
+  }
+  if (kw == "onset") {
+    need_values(iarg, narg, 1, kw);
+    onset = number(arg[iarg + 1]);
+    if (!(onset >= 0.0 && onset < 1.0))
+      error->all(FLERR, "Fix contact/tri-penalty: onset must be in [0,1), got {}", arg[iarg + 1]);
+    return 2;
+  }
+  if (kw == "stick") {
+    need_values(iarg, narg, 1, kw);
+    const std::string v = arg[iarg + 1];
+    if (v == "yes") stick = 1;
+    else if (v == "no") stick = 0;
+    else error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
+    stick_given = 1;
+    return 2;
+  }
+  if (kw == "friction") {
+    need_values(iarg, narg, 1, kw);
+    const std::string v = arg[iarg + 1];
+    if (v == "static") stick = 1;
+    else if (v == "coulomb") stick = 0;
+    else if (v == "memory") fmemory = 1;
+    else error->all(FLERR, "Fix contact/tri-penalty: friction must be static, coulomb or memory, got {}", v);
+    if (v != "memory") fmemory = 0;
+    friction_given = 1;
+    return 2;
+  }
+  if (kw == "tfac") {
+    need_values(iarg, narg, 1, kw);
+    tfac = number(arg[iarg + 1]);
+    if (tfac <= 0.0 || tfac > 1.0) error->all(FLERR, "Fix contact/tri-penalty: tfac must be in (0,1], got {}", tfac);
+    tfac_given = 1;
+    return 2;
+  }
+  if (kw == "mu") {
+    need_values(iarg, narg, 1, kw);
+    const std::string v = arg[iarg + 1];
+    if (v == "table") {
+      need_values(iarg, narg, 2, kw);
+      mustyle = MU_TABLE;
+      read_mu_table(arg[iarg + 2]);
+      return 3;
+    }
+    if (utils::strmatch(v, "^v_")) {
+      // mu v_name tvar NAME: equal-style variable of the internal variable NAME (the temperature)
+      if (iarg + 3 >= narg || std::string(arg[iarg + 2]) != "tvar")
+        error->all(FLERR, "Fix contact/tri-penalty: mu v_{} needs 'tvar NAME' (an internal variable)", v.substr(2));
+      mustyle = MU_VARIABLE;
+      mu_var = v.substr(2);
+      mu_tvar = arg[iarg + 3];
+      return 4;
+    }
+    mustyle = MU_CONST;
+    mu0 = number(arg[iarg + 1]);
+    if (mu0 < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu must be >= 0, got {}", mu0);
+    return 2;
+  }
+  return 0;
+}
+
+// mu table FILE: lines "T mu" (# comments), T increasing
+void FixContactTriPenalty::read_mu_table(const std::string &file)
+{
+  std::ifstream in(file);
+  if (!in) error->all(FLERR, "Fix contact/tri-penalty: cannot open mu table {}", file);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto p = line.find('#');
+    if (p != std::string::npos) line.erase(p);
+    std::istringstream ss(line);
+    double t, m;
+    if (!(ss >> t)) continue;
+    if (!(ss >> m)) error->all(FLERR, "Fix contact/tri-penalty: mu table {}: line '{}' needs T mu", file, line);
+    if (!mu_t.empty() && t <= mu_t.back())
+      error->all(FLERR, "Fix contact/tri-penalty: mu table {}: temperatures must increase", file);
+    if (m < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu table {}: negative mu {}", file, m);
+    mu_t.push_back(t);
+    mu_v.push_back(m);
+  }
+  if (mu_t.empty()) error->all(FLERR, "Fix contact/tri-penalty: mu table {} is empty", file);
+}
+
+// heat ID, split S|auto, tool_particles GROUP, tool_cp C T0
+int FixContactTriPenalty::parse_heat_keyword(const std::string &kw, int iarg, int narg, char **arg)
+{
+  if (kw == "heat") {
+    need_values(iarg, narg, 1, kw);
+    id_heat = arg[iarg + 1];
+    return 2;
+  }
+  if (kw == "split") {
+    need_values(iarg, narg, 1, kw);
+    split_given = 1;
+    if (std::string(arg[iarg + 1]) == "auto") split_auto = 1;
+    else {
+      split = number(arg[iarg + 1]);
+      if (split < 0.0 || split > 1.0) error->all(FLERR, "Fix contact/tri-penalty: split must be in [0,1] or auto, got {}", split);
+    }
+    return 2;
+  }
+  if (kw == "tool_particles") {
+    need_values(iarg, narg, 1, kw);
+    const int ig = group->find(arg[iarg + 1]);
+    if (ig < 0) error->all(FLERR, "Fix contact/tri-penalty: tool_particles group {} does not exist", arg[iarg + 1]);
+    tool_group = arg[iarg + 1];
+    toolbit = group->bitmask[ig];
+    return 2;
+  }
+  if (kw == "tool_cp") {
+    need_values(iarg, narg, 2, kw);
+    tool_cp = number(arg[iarg + 1]);
+    tool_temp = number(arg[iarg + 2]);
+    if (tool_cp <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: tool_cp must be > 0, got {}", tool_cp);
+    return 3;
+  }
+  return 0;
+}
+
+// the keywords that exclude or need one another; the element kind (segments in 2D)
+void FixContactTriPenalty::check_keywords(const ToolSpec &spec)
+{
+  if (spec.kind.empty()) error->all(FLERR, "Fix contact/tri-penalty: no tool geometry (keyword stl or insert)");
   if (fmemory && stick_given)
     error->all(FLERR, "Fix contact/tri-penalty: stick applies to friction static/coulomb, not to friction memory");
   if (stick_given && friction_given)
@@ -267,7 +337,7 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "Fix contact/tri-penalty: vreg applies to friction static/coulomb, not to friction memory");
   if (!fmemory && tfac_given)
     error->all(FLERR, "Fix contact/tri-penalty: tfac applies to friction memory only");
-  if (geom == "insert" && has_transform)
+  if (spec.kind == "insert" && spec.has_transform)
     error->all(FLERR, "Fix contact/tri-penalty: scale and rotate apply to stl tools only (use move)");
   if (!split_given && toolbit) split_auto = 1;
   if (split_auto && !toolbit)
@@ -277,37 +347,26 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   if (write_every && nvert == 2 && utils::strmatch(write_file, "\\.stl$"))
     error->all(FLERR, "Fix contact/tri-penalty: write file {}: a 2D tool (segments) can only be written as .vtk",
                write_file);
-  // rank 0 reads or builds the geometry, all ranks get a copy
+}
+
+/* ----------------------------------------------------------------------
+   the tool's elements (tool frame) and the feature of each: rank 0 reads the STL file or builds
+   the insert, every rank gets a copy
+------------------------------------------------------------------------- */
+
+void FixContactTriPenalty::load_geometry(const ToolSpec &spec)
+{
   std::string msg;
   if (comm->me == 0) {
     try {
-      if (geom == "stl") {
-        std::vector<double> tri = sphcut::read_stl(gargs[0], tf);
-        sphcut::require_closed_mesh(gargs[0], tri);    // a tool is a solid: no open sheets
-        stl_scale = tf.scale;
+      if (spec.kind == "stl") {
+        std::vector<double> tri = sphcut::read_stl(spec.args[0], spec.tf);
+        sphcut::require_closed_mesh(spec.args[0], tri);    // a tool is a solid: no open sheets
+        stl_scale = spec.tf.scale;
         // 2D: the section of the solid with the plane z = 0, as segments (outward normal kept)
-        elem = nvert == 3 ? tri : sphcut::stl_section_z0(gargs[0], tri);
+        elem = nvert == 3 ? tri : sphcut::stl_section_z0(spec.args[0], tri);
       } else {
-        sphcut::InsertParams ip;
-        for (size_t k = 0; k + 1 < gargs.size(); k += 2) {
-          const double v = std::stod(gargs[k + 1]);
-          if (gargs[k] == "rake") ip.rake_angle = v;
-          else if (gargs[k] == "clearance") ip.clearance_angle = v;
-          else if (gargs[k] == "radius") ip.edge_radius = v;
-          else if (gargs[k] == "rake_length") ip.rake_length = v;
-          else if (gargs[k] == "flank_length") ip.flank_length = v;
-          else if (gargs[k] == "width") ip.width = v;
-          else if (gargs[k] == "segments") ip.arc_segments = (int) v;
-          else if (gargs[k] == "face_segments") ip.face_segments = (int) v;
-        }
-        std::vector<int> tags;
-        elem = sphcut::make_cutting_insert(ip, domain->dimension, &tags);
-        for (int t : tags)
-          elem_feature.push_back(t == sphcut::INSERT_RAKE ? FEAT_RAKE
-                                 : t == sphcut::INSERT_EDGE ? FEAT_EDGE
-                                 : t == sphcut::INSERT_FLANK ? FEAT_FLANK : FEAT_OTHER);
-        for (size_t k = 0; k < elem.size(); k += 3)
-          for (int c = 0; c < 3; c++) elem[k + c] += (c < 2 || nvert == 3) ? tf.shift[c] : 0.0;
+        build_insert(spec);
       }
     } catch (std::exception &e) {
       msg = e.what();
@@ -328,7 +387,37 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   const long nel = n / (nvert == 3 ? 9 : 6);
   if ((long) elem_feature.size() != nel) elem_feature.assign(nel, FEAT_OTHER);
   MPI_Bcast(elem_feature.data(), (int) nel, MPI_INT, 0, world);
+}
 
+// the generated cutting insert (keyword insert), moved by move; its elements' features
+void FixContactTriPenalty::build_insert(const ToolSpec &spec)
+{
+  sphcut::InsertParams ip;
+  const std::vector<std::string> &a = spec.args;
+  for (size_t k = 0; k + 1 < a.size(); k += 2) {
+    const double v = std::stod(a[k + 1]);
+    if (a[k] == "rake") ip.rake_angle = v;
+    else if (a[k] == "clearance") ip.clearance_angle = v;
+    else if (a[k] == "radius") ip.edge_radius = v;
+    else if (a[k] == "rake_length") ip.rake_length = v;
+    else if (a[k] == "flank_length") ip.flank_length = v;
+    else if (a[k] == "width") ip.width = v;
+    else if (a[k] == "segments") ip.arc_segments = (int) v;
+    else if (a[k] == "face_segments") ip.face_segments = (int) v;
+  }
+  std::vector<int> tags;
+  elem = sphcut::make_cutting_insert(ip, domain->dimension, &tags);
+  for (int t : tags)
+    elem_feature.push_back(t == sphcut::INSERT_RAKE ? FEAT_RAKE
+                           : t == sphcut::INSERT_EDGE ? FEAT_EDGE
+                           : t == sphcut::INSERT_FLANK ? FEAT_FLANK : FEAT_OTHER);
+  for (size_t k = 0; k < elem.size(); k += 3)
+    for (int c = 0; c < 3; c++) elem[k + c] += (c < 2 || nvert == 3) ? spec.tf.shift[c] : 0.0;
+}
+
+// what the fix offers LAMMPS: global vector, per-atom array, restart, reverse communication
+void FixContactTriPenalty::declare_outputs()
+{
   vector_flag = 1;
   size_vector = 15 + NFEAT * NDECOMP;
   global_freq = 1;
@@ -340,11 +429,6 @@ FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
   comm_reverse = 1;
   nevery = 1;
   dynamic_group_allow = 0;
-
-  // the per-atom data that must follow the atoms (last contact force, the velocity it used)
-  // lives in fix sph/jc-thermal's state (columns FCONT, VCONT); fcontact is the output copy
-  grow_output();
-  fields_setup();
 }
 
 FixContactTriPenalty::~FixContactTriPenalty()
@@ -418,14 +502,14 @@ void FixContactTriPenalty::init()
     split = ew / (ew + et);
   }
   // the bins: elements within the largest query radius, in the tool frame
-  const double hmax = contact_radius_max();
-  sphcut::tri_bin_build(elem, nvert, 2.0 * hmax, bins);
+  const double rsearch = sphcut::support_radius(contact_radius_max());
+  sphcut::tri_bin_build(elem, nvert, rsearch, bins);
   // a tool far below the search radius is a point to the search: the distances of a particle
   // to its elements tie, and the side is lost (e.g. scale 1e-30, issue 23)
   const double extent = sphcut::bounding_diagonal(elem);
-  if (!(extent > 1.0e-6 * 2.0 * hmax))
+  if (!(extent > 1.0e-6 * rsearch))
     error->all(FLERR, "Fix contact/tri-penalty: the tool is degenerate at scale {}: it spans {}, below 1e-6 of the "
-               "contact search radius 2h = {}", stl_scale, extent, 2.0 * hmax);
+               "contact search radius 2h = {}", stl_scale, extent, rsearch);
   if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
   update_tool_velocity();
   // the spring's time step limit before the first force evaluation (fix sph/jc-thermal sets
@@ -456,15 +540,14 @@ void FixContactTriPenalty::init()
   }
 }
 
-// stability limit of the penalty spring of local particle i (sphcut_contact.h penalty_dt_limit)
+// stability limit of the penalty spring of local particle i (sphcut_contact.h contact_spring_dt)
 double FixContactTriPenalty::spring_dt_crit(int i) const
 {
   const int it = atom->type[i];
   const double h = model->smoothing_length(it);
   const double m = atom->rmass ? atom->rmass[i] : atom->mass[it];
   const double dp = model->spacing(it) > 0.0 ? model->spacing(it) : h / sfac;
-  const double k = sphcut::penalty_stiffness(model->materials()[it].E, etool, dp, pfac, domain->dimension);
-  return sphcut::penalty_dt_limit(k, m, dfac, 1.0);
+  return sphcut::contact_spring_dt(model->materials()[it].E, etool, dp, pfac, dfac, m, domain->dimension);
 }
 
 void FixContactTriPenalty::init_list(int, NeighList *ptr)
@@ -539,13 +622,12 @@ void FixContactTriPenalty::warn_inside()
   using F = FixSPHJCThermal;
   double **x = atom->x;
   const int *mask = atom->mask;
-  std::vector<int> scratch;
   double n[2] = {0.0, 0.0}, dmin = 0.0;    // inside or on the surface, on the surface
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
     const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], domain->dimension == 2 ? 0.0 : x[i][2] - disp[2]};
     const double h = model->smoothing_length(atom->type[i]);
-    const double d = sphcut::tool_signed_distance(bins, xt, 2.0 * h, scratch);
+    const double d = sphcut::tool_signed_distance(bins, xt, sphcut::support_radius(h));
     if (d <= 1.0e-9 * h) {
       n[0] += 1.0;
       if (d >= -1.0e-9 * h) n[1] += 1.0;
@@ -608,29 +690,157 @@ sphcut::ContactIn FixContactTriPenalty::contact_params(double dt_force) const
   return in;
 }
 
+/* ----------------------------------------------------------------------
+   what is the same for every particle of a contact evaluation (sphcut_contact_step.h), with
+   the host's copies of the tool and its facet tables (the /kk fix points them at its device
+   copies); dt_force the time step the friction is based on
+------------------------------------------------------------------------- */
+
+sphcut::ContactStep FixContactTriPenalty::step_params(double dt_force) const
+{
+  sphcut::ContactStep cs;
+  cs.tool = bins.view();
+  cs.feature = elem_feature.data();
+  cs.base = contact_params(dt_force);
+  for (int k = 0; k < 3; k++) cs.disp[k] = disp[k];
+  cs.dt = update->dt;
+  cs.setup = update->setupflag;
+  cs.fmemory = fmemory;
+  cs.eta = eta;
+  cs.split = split;
+  cs.has_heat = heat != nullptr;
+  cs.tool_particles = toolbit && list;
+  cs.lumped = tool_cp > 0.0;
+  cs.fields = fields.every;
+  cs.share = fields.share();
+  cs.inv_area = fields.inv_area.data();
+  cs.wear_K = fields.K;
+  cs.wear_alpha = fields.alpha;
+  return cs;
+}
+
+/* ----------------------------------------------------------------------
+   the CPU driver's sink of sphcut::contact_step for local particle i: reads the atom arrays,
+   the model and the state; writes this rank's sums (the fix's members; the previous contact
+   force's rates and the lumped tool's heat here), the force, the heat fix's temperature rates
+   and the tool particles' heat buffer (qbuf, reverse communicated)
+------------------------------------------------------------------------- */
+
+struct FixContactTriPenalty::HostSink {
+  FixContactTriPenalty *fx;
+  double **xa, **va, **fa, **st, **out;
+  const double *rmass, *tmass;    // per-atom and per-type masses
+  const int *mask, *type;
+  const Material *mat;
+  int dim;
+  int i = 0, it = 0;                  // the particle and its type
+  double w_old = 0.0, d_old = 0.0;    // the F^n half of the step's energy (CS_WORK_OLD, CS_DISS_OLD)
+  double q_lumped = 0.0;              // heat into the lumped tool (tool_cp) on this rank, this step
+
+  explicit HostSink(FixContactTriPenalty *f) :
+      fx(f), xa(f->atom->x), va(f->atom->v), fa(f->atom->f), st(f->fix->state), out(f->fcontact),
+      rmass(f->atom->rmass), tmass(f->atom->mass), mask(f->atom->mask), type(f->atom->type),
+      mat(f->model->materials()), dim(f->domain->dimension)
+  {
+  }
+  double v(int k) const { return va[i][k]; }
+  double x(int k) const { return xa[i][k]; }
+  double f(int k) const { return fa[i][k]; }
+  double h() const { return fx->model->smoothing_length(it); }
+  double spacing() const { return fx->model->spacing(it); }
+  double E() const { return mat[it].E; }
+  double mass() const { return rmass ? rmass[i] : tmass[it]; }
+  double mu(double temp) { return fx->friction_coefficient(temp); }
+  double *state() const { return st[i]; }
+  double *output() const { return out[i]; }
+  void add(int c, double val)
+  {
+    switch (c) {
+      case sphcut::CS_FX:
+      case sphcut::CS_FY:
+      case sphcut::CS_FZ: fx->ftool[c - sphcut::CS_FX] += val; break;
+      case sphcut::CS_WORK: fx->work_rate += val; break;
+      case sphcut::CS_DISS: fx->diss_rate += val; break;
+      case sphcut::CS_FRIC: fx->fric_power += val; break;
+      case sphcut::CS_QWORK: fx->q_work += val; break;
+      case sphcut::CS_QLOST: fx->q_tool_lost += val; break;
+      case sphcut::CS_QLUMP: q_lumped += val; break;
+      case sphcut::CS_QTOOL: fx->q_tool += val; break;
+      case sphcut::CS_WORK_OLD: w_old += val; break;
+      case sphcut::CS_DISS_OLD: d_old += val; break;
+    }
+  }
+  void add_force(int k, double val) { fa[i][k] += val; }
+  void dt_crit(double d) { fx->dt_crit = std::min(fx->dt_crit, d); }
+  void record(int feat, const double *rec, double pen)
+  {
+    fx->ncontact++;
+    sphcut::decompose_record(rec, fx->decomp[feat]);
+    fx->maxpen = std::max(fx->maxpen, pen);
+  }
+  void facet(int fct, const double *c) { fx->fields.add(fct, c); }
+  void heat_particle(double q, double, double) { fx->heat->add_heat(i, q); }
+  bool heat_tool(double q);
+};
+
+// the tool SPH particles within the kernel support of particle i share q by kernel weight
+bool FixContactTriPenalty::HostSink::heat_tool(double q)
+{
+  const int *jl = fx->list->firstneigh[i];    // the list holds every local atom, indexed by i
+  const int jn = fx->list->numneigh[i];
+  std::vector<double> &hw = fx->heat_w;
+  std::vector<int> &hj = fx->heat_j;
+  hw.clear();
+  hj.clear();
+  double wsum = 0.0;
+  for (int jj = 0; jj < jn; jj++) {
+    const int j = jl[jj] & NEIGHMASK;
+    if (!(mask[j] & fx->toolbit)) continue;
+    double r2 = 0.0;
+    for (int k = 0; k < 3; k++) r2 += (xa[i][k] - xa[j][k]) * (xa[i][k] - xa[j][k]);
+    const double w =
+        sphcut::tool_heat_weight(fx->model->kernel(), dim, r2, fx->model->smoothing_length(it, type[j]));
+    if (!(w > 0.0)) continue;
+    hw.push_back(w);
+    hj.push_back(j);
+    wsum += w;
+  }
+  if (!(wsum > 0.0)) return false;
+  for (size_t k = 0; k < hj.size(); k++) fx->qbuf[hj[k]] += q * hw[k] / wsum;
+  return true;
+}
+
+/* ----------------------------------------------------------------------
+   the contact of this step (or setup): the sums cleared, each local particle's contact
+   (sphcut::contact_step), then the heat of the tool and the step's energy integrals
+------------------------------------------------------------------------- */
+
 void FixContactTriPenalty::post_force(int)
 {
   sphcut::ScopedTimer timer(cpu_time);
-  using F = FixSPHJCThermal;
-  double **x = atom->x;
-  double **f = atom->f;
-  const int *mask = atom->mask;
-  const int *type = atom->type;
-  const double *rmass = atom->rmass;
-  const double *mass = atom->mass;
-  const int nlocal = atom->nlocal;
-  const int nall = nlocal + atom->nghost;
-  double **st = fix->state;
-  const Material *mat = model->materials();
-  const sphcut::TriBinView view = bins.view();
-  const int dim = domain->dimension;
-  const double dt = update->dt;
   // the time step the friction floor is based on: this step's, or at the setup of a continued
   // run the one of the last step (the adaptive dt has moved on since), so that forces repeat
-  if (!update->setupflag || dt_last <= 0.0) dt_last = dt;
-  const double dt_force = dt_last;
+  if (!update->setupflag || dt_last <= 0.0) dt_last = update->dt;
+  clear_step_sums();
+  dt_crit = 1.0e300;
+  HostSink sink(this);
+  const sphcut::ContactStep cs = step_params(dt_last);
+  const int *mask = atom->mask;
+  for (int i = 0; i < atom->nlocal; i++) {
+    sink.i = i;
+    sink.it = atom->type[i];
+    const bool candidate =
+        (mask[i] & groupbit) && !(mask[i] & toolbit) && fix->role_of(mask[i]) != FixSPHJCThermal::TOOL;
+    sphcut::contact_step(cs, candidate, sink);
+  }
+  finish_step(sink.w_old, sink.d_old, sink.q_lumped);
+}
 
+// the buffers of this evaluation sized, its sums and the tool particles' heat zeroed
+void FixContactTriPenalty::clear_step_sums()
+{
   if (toolbit) {
+    const int nall = atom->nlocal + atom->nghost;
     if (nall > nmax_buf) {
       nmax_buf = atom->nmax;
       memory->destroy(qbuf);
@@ -642,146 +852,16 @@ void FixContactTriPenalty::post_force(int)
   for (int k = 0; k < 3; k++) ftool[k] = 0.0;
   fric_power = work_rate = diss_rate = maxpen = 0.0;
   ncontact = 0;
-  dt_crit = 1.0e300;
   for (int ft = 0; ft < NFEAT; ft++)
     for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
-  double q_lumped = 0.0;    // heat into the lumped tool (tool_cp) on this rank, this step
   fields_step();
+}
 
-  // energy over the step with the weights of velocity Verlet: the particle gains
-  // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
-  // First the F^n half, with the contact forces of the previous step.
-  double w_old = 0.0, d_old = 0.0;
-  for (int i = 0; i < nlocal; i++)
-    for (int k = 0; k < dim; k++) {
-      w_old += st[i][F::FCONT + k] * vtool[k];
-      d_old += st[i][F::FCONT + k] * (vtool[k] - atom->v[i][k]);
-    }
-
-  const sphcut::ContactIn params = contact_params(dt_force);
-  for (int i = 0; i < nlocal; i++) {
-    double *fc = &st[i][F::FCONT], *vc = &st[i][F::VCONT], *fm = &st[i][F::FMEM];
-    fc[0] = fc[1] = fc[2] = 0.0;
-    for (int k = 0; k < 6; k++) fcontact[i][k] = 0.0;
-    if (!update->setupflag) {
-      for (int k = 0; k < 3; k++) vc[k] = atom->v[i][k];
-      vc[3] = 1.0;
-    }
-    // friction memory: a step takes the last step's friction force as f_old, remembers it
-    // as its input and zeroes the state (set again below if the particle is in contact)
-    if (fmemory && !update->setupflag) sphcut::memory_friction_step(fm);
-    if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
-    const int it = type[i];
-    const double h = model->smoothing_length(it);
-    const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], dim == 2 ? 0.0 : x[i][2] - disp[2]};
-    sphcut::ContactIn in = params;
-    double qs[3];
-    int region;
-    const int best = sphcut::tool_surface(view, xt, h, in.d, in.n, qs, region);
-    if (best < 0) continue;
-    const double mi = rmass ? rmass[i] : mass[it];
-    const double dpi = model->spacing(it) > 0.0 ? model->spacing(it) : h / sfac;
-    if (sphcut::near_contact(in.d, h, sfac, atom->v[i], vtool, dim, dt)) dt_crit = std::min(dt_crit, spring_dt_crit(i));
-    if (0.5 * h / sfac - in.d <= 0.0) continue;
-    // the velocity that moves the particle this step, v^(n+1/2); at the setup of a continued
-    // run (restart, or a second run with unchanged velocities) the one of the last step
-    const double *vuse = atom->v[i];
-    const bool repeat = update->setupflag && vc[3] > 0.0 && atom->v[i][0] == st[i][F::VEND] &&
-        atom->v[i][1] == st[i][F::VEND + 1] && atom->v[i][2] == st[i][F::VEND + 2];
-    if (repeat) vuse = vc;
-    // f_old of the memory law: at a step its input set above; a setup evaluation that repeats
-    // the last step (a continued run) uses that step's input if the particle had friction then,
-    // else the current state (zero after a contact ended)
-    if (fmemory) sphcut::memory_friction_input(fm, !update->setupflag, repeat, in.ft_old);
-    for (int k = 0; k < 3; k++) {
-      in.x[k] = x[i][k];
-      in.v[k] = vuse[k];
-      in.q[k] = qs[k] + disp[k];
-      in.f_other[k] = k < dim ? f[i][k] : 0.0;
-    }
-    in.mass = mi;
-    in.h = h;
-    in.E_particle = mat[it].E;
-    in.dp = dpi;
-    in.mu = friction_coefficient(st[i][F::TEMP_F]);
-    sphcut::ContactOut out;
-    sphcut::penalty_contact(in, out);
-    if (!out.active) continue;
-    ncontact++;
-    if (fmemory && !update->setupflag)
-      for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
-    // decomposition by the tool feature of the closest element (forces on the tool)
-    {
-      const int feat = elem_feature[best];
-      const double ftm = sphcut::decompose_contact(out, in.n, decomp[feat]);
-      fcontact[i][3] = out.fn;
-      fcontact[i][4] = ftm;
-      fcontact[i][5] = feat + 1;
-    }
-    fields_contact(best, region, out, st[i][F::TEMP_F]);
-    maxpen = std::max(maxpen, out.delta / (0.5 * h / sfac));
-    // no XSPH drift along the contact normal (sphcut::contact_drift)
-    sphcut::contact_drift(&st[i][F::XSPH], in.n);
-    for (int k = 0; k < dim; k++) {
-      f[i][k] += out.f[k];
-      fc[k] = out.f[k];
-      fcontact[i][k] = out.f[k];
-      ftool[k] -= out.f[k];
-      work_rate += out.f[k] * vtool[k];
-      // friction + dashpot (+ spring) power
-      diss_rate += out.f[k] * (vtool[k] - atom->v[i][k]);
-    }
-    fric_power += out.fric_power;
-
-    // friction heat (eq. 6 of seed 003): particle share and tool share
-    // (without a heat fix the workpiece share is not assigned: element 14)
-    const double q = eta * out.fric_power;
-    if (q <= 0.0) continue;
-    const double acc = update->setupflag ? 0.0 : dt;    // setup: rates only, no time passes
-    const double qw = split * q;
-    if (qw > 0.0) {
-      if (heat) {
-        heat->add_heat(i, qw);
-        q_work += qw * acc;
-      } else {
-        q_tool_lost += qw * acc;
-      }
-    }
-    const double qt = q - qw;
-    if (qt <= 0.0) continue;
-    if (toolbit && list && heat) {
-      // tool SPH particles near the contact (seed 000: NeibContTherm), kernel weighted
-      double wsum = 0.0;
-      const int *jl = list->firstneigh[i];    // the list holds every local atom, indexed by i
-      const int jn = list->numneigh[i];
-      heat_w.clear();
-      heat_j.clear();
-      for (int jj = 0; jj < jn; jj++) {
-        const int j = jl[jj] & NEIGHMASK;
-        if (!(mask[j] & toolbit)) continue;
-        double r2 = 0.0;
-        for (int k = 0; k < 3; k++) r2 += (x[i][k] - x[j][k]) * (x[i][k] - x[j][k]);
-        const double hij = model->smoothing_length(it, type[j]);
-        if (r2 >= 4.0 * hij * hij) continue;
-        const double w = sphcut::kernel_w(model->kernel(), dim, sqrt(r2), hij);
-        heat_w.push_back(w);
-        heat_j.push_back(j);
-        wsum += w;
-      }
-      if (wsum > 0.0) {
-        for (size_t k = 0; k < heat_j.size(); k++) qbuf[heat_j[k]] += qt * heat_w[k] / wsum;
-        q_tool += qt * acc;
-        continue;
-      }
-    }
-    if (tool_cp > 0.0) {
-      q_lumped += qt * acc;    // summed over the ranks below
-      q_tool += qt * acc;
-    } else {
-      q_tool_lost += qt * acc;
-    }
-  }
-
+/* after the particles: the lumped tool's temperature (q_lumped: this rank's heat into it), the
+   tool particles' heat (their ghosts' shares first), the work of the tool and the contact's
+   dissipation over the step (w_old, d_old: the rates of the previous contact force) */
+void FixContactTriPenalty::finish_step(double w_old, double d_old, double q_lumped)
+{
   if (tool_cp > 0.0) {
     // the lumped tool is one body: every rank adds the heat of all ranks
     double qsum = 0.0;
@@ -790,10 +870,11 @@ void FixContactTriPenalty::post_force(int)
   }
   if (toolbit && heat) {
     sphcut::reverse_comm(comm, this);
-    for (int i = 0; i < nlocal; i++)
-      if ((mask[i] & toolbit) && qbuf[i] > 0.0) heat->add_heat(i, qbuf[i]);
+    for (int i = 0; i < atom->nlocal; i++)
+      if ((atom->mask[i] & toolbit) && qbuf[i] > 0.0) heat->add_heat(i, qbuf[i]);
   }
   if (!update->setupflag) {
+    const double dt = update->dt;
     tool_work += 0.5 * dt * (w_old + work_rate);
     contact_diss += 0.5 * dt * (d_old + diss_rate);
   }

@@ -15,7 +15,7 @@ FixStyle(contact/tri-penalty,FixContactTriPenalty);
 #define LMP_FIX_CONTACT_TRI_PENALTY_H
 
 #include "fix.h"
-#include "sphcut_contact.h"
+#include "sphcut_contact_step.h"
 #include "sphcut_stl.h"
 #include "sphcut_model.h"
 #include "sphcut_timer.h"
@@ -74,7 +74,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   int stick = 1;              // 1: friction limited to the force that stops the trial sliding
   int fmemory = 0;            // 1: friction with memory (elastic predictor, return to the cone)
   double tfac = 0.1;          // alpha of the friction predictor (tangential stiffness alpha m/dt^2)
-  int stick_given = 0, tfac_given = 0, friction_given = 0;
+  int stick_given = 0, tfac_given = 0, friction_given = 0, split_given = 0;
   // friction coefficient: constant, table mu(T), or an equal-style variable of an internal T
   enum { MU_CONST, MU_TABLE, MU_VARIABLE };
   int mustyle;
@@ -117,7 +117,25 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   FixSPHJCThermal *fix;
   const sphcut::Model *model;    // the model of pair sph/jc-thermal (sphcut::find_model)
 
-  void load_geometry(const std::string &kind, const std::vector<std::string> &args);
+  // the constructor's pieces: the keywords (by group, each returns the arguments it used, 0:
+  // not its keyword), their consistency, the tool's elements, the outputs offered
+  struct ToolSpec {
+    std::string kind;                 // stl or insert
+    std::vector<std::string> args;    // the file, or the insert's keyword value pairs
+    sphcut::StlTransform tf;          // scale, move, rotate
+    int has_transform = 0;
+  };
+  void parse_keywords(int narg, char **arg, ToolSpec &spec);
+  int parse_tool_keyword(const std::string &kw, int iarg, int narg, char **arg, ToolSpec &spec);
+  int parse_contact_keyword(const std::string &kw, int iarg, int narg, char **arg);
+  int parse_heat_keyword(const std::string &kw, int iarg, int narg, char **arg);
+  void read_mu_table(const std::string &file);
+  void need_values(int iarg, int narg, int n, const std::string &kw) const;
+  double number(const char *s) const;
+  void check_keywords(const ToolSpec &spec);
+  void load_geometry(const ToolSpec &spec);
+  void build_insert(const ToolSpec &spec);
+  void declare_outputs();
   double friction_coefficient(double temp);
   void compute_tool_velocity();    // vtool from the constants / variables
   void update_tool_velocity();     // and the rigid tool particles' velocity (host)
@@ -129,6 +147,12 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   int restored = 0;               // global state read from a restart file
   void clear_history();
   sphcut::ContactIn contact_params(double dt_force) const;
+  sphcut::ContactStep step_params(double dt_force) const;    // sphcut_contact_step.h (host copies)
+  // post_force's pieces: the sums cleared, the particles (sphcut::contact_step through HostSink),
+  // the tool's heat and the step's energy integrals
+  struct HostSink;
+  void clear_step_sums();
+  void finish_step(double w_old, double d_old, double q_lumped);
   void warn_inside();
   double spring_dt_crit(int i) const;
 
@@ -140,7 +164,6 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
  protected:
   int fields_parse(const std::string &kw, int iarg, int narg, char **arg);    // values used, 0: not ours
   void fields_setup();                          // after the geometry: facets, vector and array sizes
-  void fields_contact(int best, int region, const sphcut::ContactOut &out, double temp);
   void fields_step();                           // post_force of a step (not a setup): the interval's time
   virtual void fields_end_of_step();            // the interval's end: averages (the /kk fix fetches first)
   void fields_write_restart(std::vector<double> &list);

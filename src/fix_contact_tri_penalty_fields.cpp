@@ -2,10 +2,11 @@
    sphcut - fix contact/tri-penalty: tool fields per facet (keywords
    tool_fields N, wear usui K alpha).  Member functions of
    FixContactTriPenalty kept apart from the contact itself: the keywords,
-   the booking of each contact on the tool facets (sphcut_contact.h
-   facet_scatter, the same arithmetic as the /kk kernel), the end of an
-   averaging interval (sphcut::ToolFields), the global vector elements
-   48-52, the per-facet array and the restart block.
+   the interval's time, the end of an averaging interval
+   (sphcut::ToolFields), the global vector elements 48-52, the per-facet
+   array and the restart block.  Each contact's share of the facets is
+   booked by sphcut::contact_step (facet_scatter, the same for the CPU and
+   /kk drivers).
 ------------------------------------------------------------------------- */
 
 #include "fix_contact_tri_penalty.h"
@@ -58,16 +59,6 @@ void FixContactTriPenalty::fields_setup()
   size_array_rows = fields.nfacet;
   size_array_cols = sphcut::ToolFields::NCOL;
   extarray = 0;
-}
-
-/* one contact of this step (not at a setup: the setup repeats the last step's forces) on the
-   facets sharing the feature that holds its closest point, weighted by dt */
-
-void FixContactTriPenalty::fields_contact(int best, int region, const sphcut::ContactOut &out, double temp)
-{
-  if (!fields.every || update->setupflag) return;
-  sphcut::facet_scatter(fields.share(), fields.inv_area.data(), best, region, out, temp, fields.K, fields.alpha,
-                        update->dt, [&](int f, const double *c) { fields.add(f, c); });
 }
 
 // a step's contact evaluation adds its dt to the running interval

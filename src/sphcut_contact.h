@@ -29,6 +29,7 @@
 #ifndef SPHCUT_CONTACT_H
 #define SPHCUT_CONTACT_H
 
+#include "sphcut_kernels.h"
 #include "sphcut_math.h"
 
 namespace sphcut {
@@ -351,6 +352,14 @@ SPHCUT_INLINE double penalty_dt_limit(double k, double m, double dfac, double fr
   const double omega = sqrt(k / m);
   const double z = dfac < 1.0 ? dfac : 1.0;
   return frac * 2.0 * (sqrt(1.0 + z * z) - z) / omega;
+}
+
+// the stability limit of the penalty spring of one particle (Young's modulus E, spacing dp, mass
+// m) against a tool of modulus E_tool (eq. 10 stiffness, penalty_dt_limit with frac 1)
+SPHCUT_INLINE double contact_spring_dt(double E, double E_tool, double dp, double pfac, double dfac, double m,
+                                       int dim)
+{
+  return penalty_dt_limit(penalty_stiffness(E, E_tool, dp, pfac, dim), m, dfac, 1.0);
 }
 
 /* ----------------------------------------------------------------------
@@ -684,16 +693,17 @@ SPHCUT_INLINE int tri_bin_nearest(const TriBinView &g, const double *x, double r
 
 /* ----------------------------------------------------------------------
    the tool surface seen by a particle at xt (tool frame): nearest element
-   within 2h (particles deeper than the contact radius still find the
-   surface), signed distance d (< 0 inside), outward unit normal n, point q
-   (tool frame), and the feature (FACE, EDGE_*, VERT_*) of that element
-   holding q.  Returns the element, -1 when none lies within 2h.
+   within the kernel support 2h (support_radius: particles deeper than the
+   contact radius still find the surface), signed distance d (< 0 inside),
+   outward unit normal n, point q (tool frame), and the feature (FACE,
+   EDGE_*, VERT_*) of that element holding q.  Returns the element, -1 when
+   none lies within 2h.
 ------------------------------------------------------------------------- */
 
 SPHCUT_INLINE int tool_surface(const TriBinView &g, const double *xt, double h, double &d, double *n,
                                double *q, int &region)
 {
-  const int e = tri_bin_nearest(g, xt, 2.0 * h, q, region);
+  const int e = tri_bin_nearest(g, xt, support_radius(h), q, region);
   if (e < 0) return -1;
   d = tri_bin_contact_normal(g, e, xt, q, region, 0, n);
   return e;

@@ -928,7 +928,7 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
   }
 }
 
-double tool_signed_distance(const TriBins &bins, const double *x, double r0, std::vector<int> &cand)
+double tool_signed_distance(const TriBins &bins, const double *x, double r0)
 {
   const TriBinView g = bins.view();
   if (g.nelem <= 0 || !(r0 > 0.0)) return HUGE_VAL;
@@ -939,31 +939,15 @@ double tool_signed_distance(const TriBins &bins, const double *x, double r0, std
     if (x[k] < g.lo[k] || x[k] > hi) return HUGE_VAL;    // outside the box of the tool
     diag2 += sq(hi - g.lo[k]);
   }
-  if (cand.size() < 64) cand.resize(64);
+  const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
   for (double r = r0;; r *= 2.0) {
-    int nc = tri_bin_query(g, x, r, cand.data(), (int) cand.size());
-    if (nc > (int) cand.size()) {
-      cand.resize(nc);
-      nc = tri_bin_query(g, x, r, cand.data(), (int) cand.size());
-    }
-    if (nc > 0) {
-      // the closest element, a FACE hit on ties (as the contact picks it)
-      int best = -1, bestreg = 0;
-      double bestd2 = 1.0e300, bestq[3] = {0.0, 0.0, 0.0};
-      for (int c = 0; c < nc; c++) {
-        double q[3];
-        int reg;
-        const double d2 = tri_bin_closest(g, cand[c], x, q, reg);
-        if (d2 < bestd2 * (1.0 - 1.0e-12) || (d2 <= bestd2 * (1.0 + 1.0e-12) && reg == FACE && bestreg != FACE)) {
-          best = cand[c];
-          bestd2 = d2;
-          bestreg = reg;
-          for (int k = 0; k < 3; k++) bestq[k] = q[k];
-        }
-      }
-      const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
+    // the closest element, a FACE hit on ties (as the contact picks it: tri_bin_nearest)
+    double q[3];
+    int region;
+    const int best = tri_bin_nearest(g, x, r, q, region);
+    if (best >= 0) {
       double n[3];
-      return tri_bin_contact_normal(g, best, xx, bestq, bestreg, 0, n);
+      return tri_bin_contact_normal(g, best, xx, q, region, 0, n);
     }
     if (r * r > 4.0 * diag2) return HUGE_VAL;
   }

@@ -208,11 +208,10 @@ std::vector<double> pseudo_normals(const std::vector<double> &elem, int nvert);
    (tri_bin_contact_normal, closed solid: pseudo-normals at edges and
    vertices).  The bins are searched within r0, then
    2 r0, 4 r0, ... (a point deep inside still finds the surface); a point
-   outside the bins' box is outside: HUGE_VAL.  cand is scratch space,
-   grown as needed.
+   outside the bins' box is outside: HUGE_VAL.
 ------------------------------------------------------------------------- */
 
-double tool_signed_distance(const TriBins &bins, const double *x, double r0, std::vector<int> &cand);
+double tool_signed_distance(const TriBins &bins, const double *x, double r0);
 
 }    // namespace sphcut
 

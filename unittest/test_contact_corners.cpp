@@ -218,7 +218,6 @@ TEST(SharpCorners, SignedDistanceMatchesWindingNumber)
     sphcut::TriBins bins;
     sphcut::tri_bin_build(c.elem, c.nvert, 2.0 * H, bins);
     const sphcut::TriBinView g = bins.view();
-    std::vector<int> cand;
     int nchecked = 0, nwrong = 0, nsurf = 0;
     double worst = 0.0, worstn = 0.0;
     const std::vector<Vec> pts = grid(c.at, c.nvert == 3 ? 15 : 41, 0.2 * H, c.nvert == 3 ? 3 : 2);
@@ -226,7 +225,7 @@ TEST(SharpCorners, SignedDistanceMatchesWindingNumber)
       const Ref r = reference(c.elem, c.nvert, p);
       if (r.dist < 1e-6 * H) continue;
       nchecked++;
-      const double d = sphcut::tool_signed_distance(bins, p.data(), 2.0 * H, cand);
+      const double d = sphcut::tool_signed_distance(bins, p.data(), 2.0 * H);
       if ((d < 0.0) != r.inside()) nwrong++;
       if (d != HUGE_VAL) worst = std::max(worst, fabs(d - r.d()));    // HUGE_VAL: outside the bins' box
       if (r.dist < 1.9 * H) {

@@ -1082,12 +1082,11 @@ TEST(TriBin, SignedDistanceInsideAndOutside)
   tri.insert(tri.end(), b2.begin(), b2.end());
   TriBins bins;
   tri_bin_build(tri, 3, 0.5, bins);
-  std::vector<int> cand;
   const double p1[3] = {2.0, 5.0, 5.0}, p2[3] = {3.7, 5.0, 5.0}, p3[3] = {5.0, 5.0, 5.0}, p4[3] = {5.0, 5.0, 11.0};
-  EXPECT_NEAR(tool_signed_distance(bins, p1, 0.25, cand), -2.0, 1e-12);    // 8 doublings of the radius
-  EXPECT_NEAR(tool_signed_distance(bins, p2, 0.25, cand), -0.3, 1e-12);
-  EXPECT_NEAR(tool_signed_distance(bins, p3, 0.25, cand), 1.0, 1e-12);     // in the gap
-  EXPECT_EQ(tool_signed_distance(bins, p4, 0.25, cand), HUGE_VAL);         // beyond the box
+  EXPECT_NEAR(tool_signed_distance(bins, p1, 0.25), -2.0, 1e-12);    // 8 doublings of the radius
+  EXPECT_NEAR(tool_signed_distance(bins, p2, 0.25), -0.3, 1e-12);
+  EXPECT_NEAR(tool_signed_distance(bins, p3, 0.25), 1.0, 1e-12);     // in the gap
+  EXPECT_EQ(tool_signed_distance(bins, p4, 0.25), HUGE_VAL);         // beyond the box
   // 2D: the generated insert's section (rake angle 0, sharp: rake face x = 0 from (0, 0) to
   // (0, 1), flank end (cos 7, sin 7) deg), a point inside near the rake face, one beyond the
   // back face (from (0, 1) to the flank end) but within the tool's box
@@ -1098,8 +1097,8 @@ TEST(TriBin, SignedDistanceInsideAndOutside)
   const double in2[3] = {0.1, 0.5, 0.0}, out2[3] = {0.9, 0.9, 0.0};
   const double bx = cos(7.0 * PI / 180.0), by = sin(7.0 * PI / 180.0) - 1.0;    // back face direction
   const double dback = fabs(out2[0] * by - (out2[1] - 1.0) * bx) / sqrt(bx * bx + by * by);
-  EXPECT_NEAR(tool_signed_distance(b2d, in2, 0.05, cand), -0.1, 1e-12);
-  EXPECT_NEAR(tool_signed_distance(b2d, out2, 0.05, cand), dback, 1e-12);
+  EXPECT_NEAR(tool_signed_distance(b2d, in2, 0.05), -0.1, 1e-12);
+  EXPECT_NEAR(tool_signed_distance(b2d, out2, 0.05), dback, 1e-12);
 }
 
 // the XSPH drift of a particle in contact loses its component along the contact normal and
