@@ -314,7 +314,7 @@ prof() {
 # (its tool travels 1 mm from 0.093 mm before the workpiece: 0.907 mm of cut), one after the other
 # on the same GPU.  sphcut runs the README's GPU command with dumps off, once per setting in
 # PEER_SETS (;-separated lists of -var settings; "default" is none; default: the defaults and half
-# their time step, -var cfl 0.15); each line prints particles,
+# their time step, -var cfl 0.25); each line prints particles,
 # steps, wall time, us/step, Fc/Ft over 0.3-0.907 mm of cut and the time against the peer's.
 peer() {
   local ny=${PEER_NY:-41} bin="$ROOT/.carry/peer/mfree_gpu"
@@ -330,7 +330,7 @@ peer() {
     END{printf "Fc %.1f Ft %.1f N/mm over 0.3-0.907 mm (%d rows)", 1e6 * fc / n, 1e6 * ft / n, n}' results/force_*)
   local steps; steps=$(grep -o "of [0-9]*:" screen | tail -1 | tr -dc 0-9)
   say "peer ny $ny: wall $(printf %.1f $wall) s (its loop, dumps included: $gpu s), $steps steps, $(awk -v t=$gpu -v n=$steps 'BEGIN{printf "%.0f us/step", 1e6*t/n}'); $f"
-  local sets="${PEER_SETS:-default;-var cfl 0.15}" set
+  local sets="${PEER_SETS:-default;-var cfl 0.25}" set
   IFS=';' read -ra sets <<< "$sets"
   for set in "${sets[@]}"; do
     local args="$set" tag; [ "$set" = default ] && args=""
