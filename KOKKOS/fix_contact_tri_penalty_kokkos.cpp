@@ -41,6 +41,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_kernels.h"
 #include "sphcut_kokkos.h"
+#include "sphcut_thermal.h"
 
 #include <algorithm>
 #include <vector>
@@ -177,9 +178,7 @@ template <class DeviceType> struct ContactKernel {
     KOKKOS_INLINE_FUNCTION void heat_particle(double q, double m, double acc) const
     {
       if (!(k.mask(i) & k.heatbit)) return;
-      const double cp = k.mat(it).cp;
-      if (cp <= 0.0) return;
-      k.state(i, SL::DTEMP) += q / (m * cp);
+      if (!sphcut::add_source_heat(k.state(i, SL::DTEMP), q, m, k.mat(it).cp)) return;
       r[R_QSRC] += q * acc;
     }
     // the tool particles within the kernel support share q by kernel weight: the heat per

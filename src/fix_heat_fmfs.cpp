@@ -601,9 +601,8 @@ void FixHeatFMFS::add_heat(int i, double power)
 {
   if (i >= atom->nlocal || !(atom->mask[i] & groupbit)) return;
   const Material &mt = model->materials()[atom->type[i]];
-  if (mt.cp <= 0.0) return;
   const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-  fix->state[i][FixSPHJCThermal::DTEMP] += power / (m * mt.cp);
+  if (!sphcut::add_source_heat(fix->state[i][FixSPHJCThermal::DTEMP], power, m, mt.cp)) return;
   // booked with the rectangle rule (the temperature uses the trapezoid: O(dt) difference per step)
   if (!update->setupflag) q_sources += power * update->dt;
 }

@@ -842,10 +842,19 @@ struct HeatLosses {
   int on;                     // hconv > 0 or emissivity > 0
 };
 
+/* a heat source of the given power (energy/time, e.g. friction heat) into a particle's
+   temperature rate dT/dt (mass m, heat capacity cp): false, and nothing added, for a material
+   without heat capacity.  fix heat/fmfs add_heat and the contact's device kernel.            */
+SPHCUT_INLINE bool add_source_heat(double &dtemp, double power, double m, double cp)
+{
+  if (cp <= 0.0) return false;
+  dtemp += power / (m * cp);
+  return true;
+}
+
 // the held temperature rate of a particle: rho cp dT/dt = rate over rho cp, less, on a free
 // surface (surf) with losses, the heat it loses by convection and radiation (surface_losses of
 // its volume m/rho), which are added to p_conv and p_rad
-
 SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double rate, double rho, double mass,
                                double cp, double T, double &p_conv, double &p_rad)
 {
