@@ -241,3 +241,39 @@ TEST(Migrate, RestartOnTwoContinuesOnOne)
   }
   MPI_Barrier(MPI_COMM_WORLD);
 }
+
+// the collision of two blocks across the rank boundary (x = 0), /kk against the CPU styles on 2
+// ranks: atoms deleted and created between runs (the rows follow by index there), sorting every
+// 10 steps, and a small block created between the runs above the others that flies across the
+// rank boundary and out of the box through the fixed side during the next run (the rows of its
+// lost atoms are sent, nobody takes them)
+TEST(Migrate, AtomsCreatedDeletedAndLost)
+{
+  Snapshot snap[2];
+  long long moved[2] = {0, 0};
+  LAMMPS_NS::bigint natoms[2] = {0, 0}, before = 0;
+  for (int k = 0; k < 2; k++) {
+    Lammps l(MPI_COMM_WORLD, k ? KK : std::vector<std::string>{});
+    auto c = collision(k ? "off" : "on");
+    c.insert(c.begin() + 6, "atom_modify sort 10 4e-4");
+    c.insert(c.begin(), "processors * 1 1");
+    l.cmds(c);
+    l.cmds({"run 50", "region cut block -30 -12 -20 20 -1 1", "delete_atoms region cut",
+            "region fly block 3.5 6.5 13.5 16.5 -0.5 0.5", "create_atoms 1 region fly", "group fly region fly",
+            "velocity fly set -2000 0 0 units box",
+            "thermo_modify lost ignore"});
+    before = l.lmp->atom->natoms;
+    l.cmd("run 400");
+    snap[k] = take(l);
+    natoms[k] = l.lmp->atom->natoms;
+    if (k) moved[k] = migrated_rows(l);
+  }
+  if (rank() == 0)
+    std::printf("[ lost     ] %lld atoms after delete/create, %lld after the run; %lld state rows moved between "
+                "the ranks\n", (long long) before, (long long) natoms[1], moved[1]);
+  EXPECT_EQ(natoms[0], natoms[1]);
+  EXPECT_LT(before, 316);           // atoms were deleted (net of the 9 created)
+  EXPECT_LT(natoms[1], before);     // and lost during the run
+  EXPECT_GT(moved[1], 0);
+  expect_same(snap[0], snap[1], "lost");
+}
