@@ -12,7 +12,7 @@
      end_of_step        the new dt (one MPI_Allreduce); the state to the
                         host only on output steps
    Host copies of the state otherwise happen only where LAMMPS needs it on
-   the host: restart, setup, and with several ranks exchange and sorting.
+   the host: restart, setup, and with migrate host exchange and sorting.
 
    Reneighbouring: a fix with an Atom grow callback makes LAMMPS 29Sep2021
    exchange, sort and build ghosts on the host (x, v, f and the whole
