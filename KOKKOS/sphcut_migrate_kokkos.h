@@ -48,11 +48,12 @@ template <class DeviceType> class RowMigration {
   bigint received = 0;    // rows taken from other ranks
   bigint created = 0;     // rows started anew (atoms created during the run)
   bigint calls = 0;
-  double seconds = 0.0;    // wall time in remap (host clock; the device copies fence)
+  double seconds = 0.0;        // wall time in remap (host clock; the device copies fence)
+  double mpi_seconds = 0.0;    // of which in the MPI calls (with the wait for the slowest rank)
   void clear()
   {
     sent = received = created = calls = 0;
-    seconds = 0.0;
+    seconds = mpi_seconds = 0.0;
   }
 
   // the views are kept between calls (sized up only)
@@ -129,7 +130,9 @@ template <class DeviceType> class RowMigration {
       // every rank receives every rank's rows (a first version: the rows are few; neighbour
       // ranks only would need the brick's 26 neighbours)
       std::vector<int> counts(nprocs), displs(nprocs + 1, 0);
+      double t_mpi = MPI_Wtime();
       MPI_Allgather(&nsend, 1, MPI_INT, counts.data(), 1, MPI_INT, world);
+      mpi_seconds += MPI_Wtime() - t_mpi;
       bigint total = 0;
       for (int p = 0; p < nprocs; p++) total += counts[p];
       if ((bigint) total * stride > INT_MAX)
@@ -150,8 +153,10 @@ template <class DeviceType> class RowMigration {
         if (nsend > 0)
           Kokkos::deep_copy(Kokkos::subview(hs, std::make_pair((size_t) 0, (size_t) nsend * stride)),
                             Kokkos::subview(sendbuf, std::make_pair((size_t) 0, (size_t) nsend * stride)));
+        t_mpi = MPI_Wtime();
         MPI_Allgatherv(hs.data(), nsend * stride, MPI_DOUBLE, hr.data(), counts.data(), displs.data(), MPI_DOUBLE,
                        world);
+        mpi_seconds += MPI_Wtime() - t_mpi;
         Kokkos::deep_copy(Kokkos::subview(recvbuf, std::make_pair((size_t) 0, (size_t) total * stride)),
                           Kokkos::subview(hr, std::make_pair((size_t) 0, (size_t) total * stride)));
         // the received rows enter the table for tags this rank may own (old rows first: an atom
