@@ -8,6 +8,7 @@
 // the 2-rank run goes on.  Run on 2 ranks (ctest: test_migrate_np2); the 1-rank runs run on rank 0.
 #include "sphcut_collision.h"
 
+#include "comm_kokkos.h"
 #include "domain.h"
 #include "input.h"
 #include "update.h"
@@ -22,14 +23,17 @@ using namespace sphcut_test;
 
 namespace {
 
-const std::vector<std::string> KK = {"-k", "on", "t", "1", "-sf", "kk", "-pk", "kokkos", "neigh", "full", "newton",
-                                     "off"};
+// comm device: LAMMPS' Kokkos communication on the device as on a GPU with GPU-aware MPI (the default
+// of a host backend is the classic host path, which the fix's migration must not need either)
+const std::vector<std::string> KK = {"-k", "on",  "t",    "1",   "-sf",    "kk",   "-pk", "kokkos",
+                                     "neigh", "full", "newton", "off", "comm", "device"};
 
 struct CutRun {
   Snapshot start;             // before the last run (atom IDs differ between rank counts: create_atoms)
   Snapshot snap;
   std::vector<double> cut;    // f_cut[1..15]
   long long migrated = 0;     // rows moved between the ranks in the last run (all ranks)
+  int classic = -1;           // 1: LAMMPS exchanged atoms on the host (classic path), 0: on the device
   double toolx = 0.0;         // tool tip x before the last run
 };
 
@@ -98,6 +102,7 @@ CutRun go_on(Lammps &l, int more)
   r.snap = take(l);
   for (int k = 1; k <= 15; k++) r.cut.push_back(l.equal("f_cut[" + std::to_string(k) + "]"));
   r.migrated = migrated_rows(l);
+  if (auto *ck = dynamic_cast<LAMMPS_NS::CommKokkos *>(l.lmp->comm)) r.classic = ck->exchange_comm_classic ? 1 : 0;
   return r;
 }
 
@@ -184,6 +189,8 @@ void check_cut(const std::string &example, const std::vector<std::string> &vars,
   EXPECT_GT(kk2.cut[4], 2.0);      // the tool is in contact
   EXPECT_GT(kk2.migrated, 0);      // rows did move on the device
   EXPECT_EQ(host2.migrated, 0);    // the classic path moved them
+  EXPECT_EQ(kk2.classic, 0);       // LAMMPS exchanged, sorted and built the ghosts on the device
+  EXPECT_EQ(host2.classic, 1);     // and on the host for migrate host
   compare(cpu2, kk2, "kk2-cpu2");
   compare(host2, kk2, "kk2-host");
   MPI_Comm one = solo();

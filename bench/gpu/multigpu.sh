@@ -22,8 +22,11 @@
 # skipped), MGPU_MIGRATE ("device host"), NZ (232), STEPS (200), REBUILD (reneighbour every this many
 # steps, default 20, neigh_modify check no: the tool moves about 1e-3 spacings per step, so with the
 # example's check yes a 200-step run would reneighbour only at its setup; 0 keeps the example's
-# check yes every NEIGHEVERY (10) steps), GPU_AWARE (off: MPI buffers through the host, as the
-# MPI on the device machines may lack CUDA support; on: -pk kokkos gpu/aware on), MGPU_TIMEOUT (s
+# check yes every NEIGHEVERY (10) steps), GPU_AWARE (on|off: -pk kokkos gpu/aware; default: LAMMPS
+# decides, and turns it off where it cannot detect a CUDA-aware MPI, e.g. Open MPI built without
+# CUDA: then LAMMPS 29Sep2021 takes its classic host path for ALL Kokkos communication on several
+# ranks (exchange, borders, and the forward communication of x and of the fixes' columns every
+# step), whatever the fix's migrate keyword; the summary names the MPI and LAMMPS' warning), MGPU_TIMEOUT (s
 # per run, default 400), MGPU_BALANCE (1: balance shift xyz before the run, the default; 0: the
 # uniform grid LAMMPS picks), FENCE (yes: the sphcut table shows device times, the runs are slower;
 # default: the fix's default, host times per style).
@@ -41,7 +44,7 @@ NGPU=${MGPU_NGPU:-${NGPU:-1}}
 # script on a host build, e.g. "-k on t 1 -sf kk")
 kk() {
   local n=$1
-  echo "${SPHCUT_GPU_ARGS:--k on g $n -sf kk} -pk kokkos neigh full newton off gpu/aware ${GPU_AWARE:-off}"
+  echo "${SPHCUT_GPU_ARGS:--k on g $n -sf kk} -pk kokkos neigh full newton off${GPU_AWARE:+ gpu/aware $GPU_AWARE}"
 }
 # host build tries: no gpu/aware keyword without a GPU
 [ -n "${SPHCUT_GPU_ARGS:-}" ] && kk() { echo "$SPHCUT_GPU_ARGS -pk kokkos neigh full newton off"; }
@@ -132,6 +135,7 @@ check2() {
     cut_run 1 g1d$d $ex $v || continue
     RESTART_TAG=$([ $d = 2 ] && echo yes || echo none) cut_run 2 g2d$d $ex $v || continue
     say "check2 ${d}D cut, the 1000 steps on 2 GPUs: $(awk '/^run +1000$/{f=1} f && /migrate device/{print; exit}' log.g2d$d)"
+    grep -m1 -E "GPU-aware|classic exchange" log.g2d$d | sed 's/^/  LAMMPS: /' >> "$SUM"
     say "  $(match_ids start.g1d$d.dump start.g2d$d.dump final.g2d$d.dump final.g2d$d.as1.dump | tr '\n' ' ')"
     say "  2 GPUs vs 1 GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py final.g1d$d.dump final.g2d$d.as1.dump 1e-10 | tr '\n' ' ')"
     # the restart of the 2-GPU run continued on 1 GPU for 500 steps (the 2D example's continue mode;
@@ -182,6 +186,7 @@ breakdown() {
   local lg=$1
   say "    $(grep '^Loop time' $lg | tail -1)"
   say "    $(grep -E '^Neighbor list builds' $lg | tail -1); $(grep '^sph/jc-thermal/kk migrate device' $lg | tail -1)"
+  grep -m1 -E "GPU-aware|classic exchange" $lg | sed 's/^/      LAMMPS: /' >> "$SUM"
   awk '/^MPI task timing breakdown/{n++} n==2 && /^(Section|Pair |Neigh |Comm |Output |Modify |Other )/' $lg | sed 's/^/      /' >> "$SUM"
   grep -E '^(Nlocal|Nghost):' $lg | tail -2 | sed 's/^/      /' >> "$SUM"
   awk '/^sphcut timing/{buf = $0 "\n"; f = 1; next} f && /^  /{buf = buf $0 "\n"; next} f{f = 0; last = buf}
