@@ -284,3 +284,25 @@ TEST(Migrate, AtomsCreatedDeletedAndLost)
   EXPECT_GT(moved[1], 0);
   expect_same(snap[0], snap[1], "lost");
 }
+
+// the keyword: device or host, nothing else (the CPU style accepts and ignores it)
+TEST(Migrate, Keyword)
+{
+  for (int k = 0; k < 2; k++) {
+    Lammps l(MPI_COMM_WORLD, k ? KK : std::vector<std::string>{});
+    auto c = collision(k ? "off" : "on");
+    c.pop_back();
+    c.pop_back();
+    c.pop_back();    // the fix, timestep, thermo
+    l.cmds(c);
+    EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal migrate gpu", "migrate must be device or host, got gpu"));
+    EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal migrate", "keyword migrate needs a value"));
+    l.cmd("fix sph all sph/jc-thermal migrate host");
+    if (k) {
+      int dim = 0;
+      auto *fix = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+      ASSERT_NE(fix->extract("migrate_device", dim), nullptr);
+      EXPECT_EQ(*static_cast<int *>(fix->extract("migrate_device", dim)), 0);
+    }
+  }
+}
