@@ -92,7 +92,7 @@ template <class DeviceType> struct ContactKernel {
   double dt, etool, pfac, dfac, sfac, mu0, eta, split;
   sphcut::ContactIn params;    // the fields common to all particles (FixContactTriPenalty::contact_params)
   Kokkos::View<double *, mem> sums;    // NRED sums of this step, the NACCUM accumulators, the counters
-  typename AT::t_double_1d dtlim;      // the spring's dt limit for fix sph/jc-thermal/kk (k_dtlim)
+  typename AT::t_double_1d dtlim;      // the spring's dt limit: this fix's slot of fix sph/jc-thermal/kk
   double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
   // one record per contact (sphcut::contact_record, the feature, the penetration), in the order
   // the contacts take a slot from the counter sums(C_NREC + cur); the other is cleared (final)
@@ -503,7 +503,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.share.elem = d_share_elem.data();
   k.inv_area = d_inv_area;
   k.facc = d_facc;
-  k.dtlim = fixkk->k_dtlim.template view<DeviceType>();
+  k.dtlim = fixkk->dt_slot_view<DeviceType>(this);
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
   // the sums go to d_sums on the device, the accumulators and the dt limit are updated there

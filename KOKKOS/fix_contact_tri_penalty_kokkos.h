@@ -48,7 +48,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   void post_run() override;
   double compute_vector(int) override;
   void write_restart(FILE *) override;
-  double dt_limit(double, double) const override { return 1.0e300; }    // on the device (k_dtlim)
+  double dt_limit(double, double) const override { return 1.0e300; }    // in its slot (dt_slot), on the device
   int dt_limit_on_device() const override { return 1; }
 #ifdef SPHCUT_KK_API_2026
   int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;

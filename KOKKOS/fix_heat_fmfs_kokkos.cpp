@@ -11,7 +11,10 @@
    Every step one kernel adds the held rate to the temperature rate DTEMP.
    Dirichlet groups: one kernel after the predictor, one reduction after
    the corrector (the heat through the clamp).  The few global sums (loss
-   rates, scheme counters, clamp heat) come back by parallel_reduce.
+   rates, scheme counters) come back by parallel_reduce.  With an adaptive
+   step the reduction after the corrector (with or without Dirichlet
+   groups) also writes the thermal dt limit into this fix's slot of fix
+   sph/jc-thermal/kk, on the device.
 ------------------------------------------------------------------------- */
 
 #include "fix_heat_fmfs_kokkos.h"
@@ -23,6 +26,7 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_sph_jc_thermal_kokkos.h"
+#include "modify.h"
 #include "neigh_list_kokkos.h"
 #include "neighbor.h"
 #include "sphcut_model.h"
@@ -44,31 +48,56 @@ constexpr int NW = 1 + 3 * 3 + 3;    // scheme flag, Gf (3x3), z (3)
 }    // namespace
 
 namespace {
-// the Dirichlet groups back to their temperature after the corrector, and the heat that took
-// (FixHeatFMFS::final_integrate); final adds this step's sum to the accumulator on the device
-template <class DeviceType> struct DirichletEnergy {
+// after the corrector (FixHeatFMFS::final_integrate, dt_limit): the Dirichlet groups back to
+// their temperature and the heat that took (nd > 0), and the thermal dt limit over the group
+// (want_lim); final adds this step's heat to the accumulator and writes the limit into the
+// fix's slot, both on the device
+template <class DeviceType> struct HeatAfterCorrector {
   typedef DeviceType device_type;
-  typedef double value_type;
+  typedef double value_type[];
+  const unsigned value_count = 2;
   typedef ArrayTypes<DeviceType> AT;
   typedef typename DeviceType::memory_space mem;
   typename AT::t_double_2d st;
   typename AT::t_int_1d_const mask, type;
   typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
   Kokkos::View<const sphcut::Material *, mem> mat;
+  Kokkos::View<const double *, mem> h;
   Kokkos::View<const int *, mem> db;
   Kokkos::View<const double *, mem> dtemp;
   Kokkos::View<double *, mem> acc;
-  int gb, nd, use_rmass;
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, double &sum) const
+  typename AT::t_double_1d slot;
+  int gb, nd, use_rmass, want_lim, every;
+  double F;
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
+    r[0] = 0.0;
+    r[1] = 1.0e300;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  {
+    d[0] += s[0];
+    if (s[1] < d[1]) d[1] = s[1];
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
+  {
+    if (want_lim && (mask(i) & gb)) {
+      const int t = type(i);
+      const double d = sphcut::thermal_dt_limit(st(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t), F, every);
+      if (d < r[1]) r[1] = d;
+    }
     const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
     if (k < 0) return;
     const int t = type(i);
     const double m = use_rmass ? rmass(i) : mass(t);
-    sum += m * mat(t).cp * (dtemp(k) - st(i, FixSPHJCThermal::TEMP));
+    r[0] += m * mat(t).cp * (dtemp(k) - st(i, FixSPHJCThermal::TEMP));
     st(i, FixSPHJCThermal::TEMP) = dtemp(k);
   }
-  KOKKOS_INLINE_FUNCTION void final(double &sum) const { acc(0) += sum; }
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const
+  {
+    acc(0) += r[0];
+    if (want_lim) slot(0) = r[1];
+  }
 };
 }    // namespace
 
@@ -100,9 +129,14 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   sphcut::kokkos_full_list<DeviceType>(neighbor);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
-  fixkk->therm_bit = groupbit;    // the thermal dt limit in fix sph/jc-thermal/kk's reduction
-  fixkk->therm_every = every;
-  fixkk->therm_step = -1;
+  // the thermal dt limit goes into this fix's slot after the corrector: this fix's final_integrate
+  // must follow the mechanics fix's (else dt_limit computes it on the host's request)
+  slot_after = 0;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (modify->fix[i] == fixkk) slot_after = 1;
+    if (modify->fix[i] == this) break;
+  }
+  slot_step = -1;
   surfkk = nullptr;
   if (surface) {
     surfkk = dynamic_cast<ComputeSurfaceLambdaKokkosBase *>(surface);
@@ -128,13 +162,18 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   d_dirtemp = sphcut::to_device<double, DeviceType>(dtemp.data(), nd + 1, "heat/fmfs:dirtemp");
 }
 
-/* thermal time step limit of this rank (a reduction on the device; taken by fix sph/jc-thermal
-   every step with the other attached styles' limits) */
+/* thermal time step limit of this rank: in this fix's slot when final_integrate wrote it this step
+   (fix sph/jc-thermal/kk reads the slot with the others at its end_of_step), else (setup, another
+   Courant number, the fix before the mechanics fix) a reduction on the device here */
+template <class DeviceType> int FixHeatFMFSKokkos<DeviceType>::dt_limit_on_device() const
+{
+  return slot_step >= 0 && slot_step == update->ntimestep && !update->setupflag;
+}
+
 template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(double, double Fc) const
 {
   if (!fixkk || d_mat.extent(0) == 0) return 1.0e300;
-  // computed by fix sph/jc-thermal/kk after this step's corrector (its final_integrate)
-  if (fixkk->therm_step == update->ntimestep && fixkk->therm_F == Fc) return fixkk->therm_dt;
+  if (dt_limit_on_device() && slot_F == Fc) return 1.0e300;
   fixkk->k_state.template sync<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
@@ -512,29 +551,42 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet(bo
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::final_integrate()
 {
-  if (dirichlet.empty()) return;
+  const int want_lim = slot_after && dt_slot >= 0 && fixkk->courant() > 0.0;
+  if (dirichlet.empty() && !want_lim) return;
   sphcut::FencedTimer timer(cpu_time);
   atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
   fixkk->k_state.template sync<DeviceType>();
-  DirichletEnergy<DeviceType> k;
+  fixkk->k_dtlim.template sync<DeviceType>();
+  HeatAfterCorrector<DeviceType> k;
   k.st = fixkk->k_state.template view<DeviceType>();
   k.mask = atomKK->k_mask.view<DeviceType>();
   k.type = atomKK->k_type.view<DeviceType>();
   k.rmass = atomKK->k_rmass.view<DeviceType>();
   k.mass = atomKK->k_mass.view<DeviceType>();
   k.mat = d_mat;
+  k.h = d_h;
   k.db = d_dirbit;
   k.dtemp = d_dirtemp;
   k.gb = groupbit;
   k.nd = (int) dirichlet.size();
   k.use_rmass = atom->rmass_flag;
-  if (d_qdir.extent(0) != 2) d_qdir = Kokkos::View<double *, typename DeviceType::memory_space>("heat:qdir", 2);
+  k.want_lim = want_lim;
+  k.every = every;
+  k.F = fixkk->thermal_courant();
+  if (want_lim) k.slot = fixkk->dt_slot_view<DeviceType>(this);
+  if (d_qdir.extent(0) != 3) d_qdir = Kokkos::View<double *, typename DeviceType::memory_space>("heat:qdir", 3);
   k.acc = d_qdir;
-  // the sum goes to d_qdir(1) and is added to d_qdir(0) on the device (final): no host round trip
+  // the step's sums go to d_qdir(1..2); the heat is added to d_qdir(0) and the limit written into
+  // the slot on the device (final): no host round trip
   Kokkos::parallel_reduce("sphcut:heat:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k,
-                          Kokkos::subview(d_qdir, 1));
+                          Kokkos::subview(d_qdir, std::make_pair(1, 3)));
   fixkk->k_state.template modify<DeviceType>();
-  qdir_stale = 1;
+  if (want_lim) {
+    fixkk->k_dtlim.template modify<DeviceType>();
+    slot_step = update->ntimestep;
+    slot_F = k.F;
+  }
+  if (!dirichlet.empty()) qdir_stale = 1;
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_dirichlet()

@@ -46,6 +46,7 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void write_restart(FILE *) override;
   void post_run() override;
   double dt_limit(double, double F) const override;
+  int dt_limit_on_device() const override;
 #ifdef SPHCUT_KK_API_2026
   int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
   void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
@@ -74,8 +75,17 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void add_held();
   void set_dirichlet(bool also_temp);
   // the heat the Dirichlet groups took since the host last read it (final_integrate adds to it on
-  // the device, no host round trip per step); fetch_dirichlet adds it to q_dirichlet
+  // the device, no host round trip per step); fetch_dirichlet adds it to q_dirichlet.  Element 0
+  // the accumulator, 1-2 final_integrate's reduction (the step's heat, the thermal dt limit)
   Kokkos::View<double *, typename DeviceType::memory_space> d_qdir;
+  // the thermal dt limit in this fix's slot of fix sph/jc-thermal/kk (AttachedStyle::dt_slot):
+  // written by final_integrate's reduction after the corrector (the density the CPU fix's
+  // dt_limit sees at end_of_step) when the step is adaptive and this fix comes after the
+  // mechanics fix in the input (its final_integrate runs after the corrector); slot_step, slot_F:
+  // the step and thermal Courant number of the limit there
+  int slot_after = 0;
+  bigint slot_step = -1;
+  double slot_F = 0.0;
   int qdir_stale = 0;
   void fetch_dirichlet();
 };

@@ -8,9 +8,11 @@
                         to the ghosts by device forward communication
      final_integrate    one reduction: corrector, radial return, plastic
                         heat, and the sums the host needs (plastic work,
-                        the next stable dt)
-     end_of_step        the new dt (one MPI_Allreduce); the state to the
-                        host only on output steps
+                        this rank's Courant limit) into a device view
+     end_of_step        that view with the attached styles' dt slots to
+                        the host (the one host round trip of a step), the
+                        new dt (one MPI_Allreduce); the state to the host
+                        only on output steps
    Host copies of the state otherwise happen only where LAMMPS needs it on
    the host: restart, setup, and with migrate host exchange and sorting.
 
@@ -53,7 +55,6 @@
 #include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_solid.h"
-#include "sphcut_thermal.h"
 
 #include <algorithm>
 #include <cstring>
@@ -64,12 +65,13 @@ using namespace FixConst;
 namespace {
 
 /* second half of the step with the two sums the host needs: the plastic
-   work of the step and this rank's stable dt (computed from the final v
-   and rho, as the CPU fix does at end_of_step)                          */
+   work of the step and this rank's Courant limit (computed from the final
+   v and T, as the CPU fix does at end_of_step); reduced into the device
+   view k_dtlim (STEP_WORK, STEP_DT), no host round trip here            */
 template <class DeviceType> struct SecondHalf {
   typedef DeviceType device_type;
   typedef double value_type[];
-  const unsigned value_count = 3;
+  const unsigned value_count = 2;
   typedef ArrayTypes<DeviceType> AT;
   typename sphcut::AtomTypes<DeviceType>::v v;
   typename sphcut::AtomTypes<DeviceType>::f_const f;
@@ -78,33 +80,20 @@ template <class DeviceType> struct SecondHalf {
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
-  typename AT::t_double_1d_const dtlim;    // limit of an attached style (k_dtlim), when use_dtlim
-  int groupbit, toolbit, clampbit, use_rmass, want_dt, use_dtlim, therm_bit, therm_every;
-  double dt, dtf, cfl, vmax, tmax, therm_F;
+  int groupbit, toolbit, clampbit, use_rmass, want_dt;
+  double dt, dtf, cfl, vmax, tmax;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
     r[0] = 0.0;
-    r[1] = r[2] = 1.0e300;
+    r[1] = 1.0e300;
   }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type dst, const volatile value_type src) const
   {
     dst[0] += src[0];
     if (src[1] < dst[1]) dst[1] = src[1];
-    if (src[2] < dst[2]) dst[2] = src[2];
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
-  {
-    if (use_dtlim && i == 0 && dtlim(0) < r[1]) r[1] = dtlim(0);
-    second_half(i, r);
-    if (mask(i) & therm_bit) {    // after the corrector: the density the CPU heat fix sees at end_of_step
-      const int t = type(i);
-      const double d = sphcut::thermal_dt_limit(state(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t),
-                                                therm_F, therm_every);
-      if (d < r[2]) r[2] = d;
-    }
-  }
-  KOKKOS_INLINE_FUNCTION void second_half(const int i, value_type r) const
   {
     if (!(mask(i) & groupbit)) return;
     const int t = type(i);
@@ -128,7 +117,7 @@ template <class DeviceType> struct SecondHalf {
 
 template <class DeviceType>
 FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, char **arg) :
-    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg), dt_next(1.0e300),
+    FixSPHJCThermalKokkosBase(sphcut::require_kokkos(lmp, "Fix sph/jc-thermal/kk"), narg, arg),
     remap(0), nrows(0), rowtag(nullptr)
 {
   kokkosable = 1;
@@ -145,19 +134,41 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   for (int i = 0; i < atom->nlocal; i++) initialize_atom(i);
   k_state.modify_host();
   remap = migrate_device && atom->tag_enable;
-  k_dtlim = DAT::tdual_double_1d("sph/jc-thermal:dtlim", 1);
-  k_dtlim.view_host()(0) = 1.0e300;
+  k_dtlim = DAT::tdual_double_1d("sph/jc-thermal:dtlim", SLOT0);
+  k_dtlim.view_host()(STEP_WORK) = 0.0;
+  k_dtlim.view_host()(STEP_DT) = 1.0e300;
   k_dtlim.modify_host();
   k_dtlim.template sync<DeviceType>();
 }
 
-// whether an attached style writes its dt limit into k_dtlim (then the reductions read it)
-template <class DeviceType> int FixSPHJCThermalKokkos<DeviceType>::device_dt_limits()
+/* an attached style gets a slot of k_dtlim for its dt limit, once: a style attached again (each
+   init) keeps its slot and the limit it last wrote there, as a CPU style keeps the limit it last
+   computed; a new style (dt_slot -1, or a slot of another fix sph/jc-thermal/kk) gets a new slot
+   holding no limit.  Slots are not reused: a deleted style's slot stays unread.            */
+void FixSPHJCThermalKokkosBase::attach(sphcut::AttachedStyle *style)
 {
-  int any = 0;
-  for (auto *st : timed) any |= st->dt_limit_on_device();
-  if (any) k_dtlim.template sync<DeviceType>();
-  return any;
+  FixSPHJCThermal::attach(style);
+  const int k = style->dt_slot;
+  if (k >= 0 && k < (int) slot_owner.size() && slot_owner[k] == style) return;
+  style->dt_slot = (int) slot_owner.size();
+  slot_owner.push_back(style);
+  k_dtlim.sync_host();
+  DAT::tdual_double_1d grown("sph/jc-thermal:dtlim", SLOT0 + slot_owner.size());
+  for (int i = 0; i < (int) k_dtlim.extent(0); i++) grown.view_host()(i) = k_dtlim.view_host()(i);
+  grown.view_host()(SLOT0 + style->dt_slot) = 1.0e300;
+  grown.modify_host();
+  grown.sync_device();
+  k_dtlim = grown;
+}
+
+// the minimum of this step's limits that the attached styles hold in their slots (host copy of
+// k_dtlim current)
+double FixSPHJCThermalKokkosBase::device_limits()
+{
+  double m = 1.0e300;
+  for (auto *st : timed)
+    if (st->dt_slot >= 0 && st->dt_limit_on_device()) m = std::min(m, k_dtlim.view_host()(SLOT0 + st->dt_slot));
+  return m;
 }
 
 template <class DeviceType> FixSPHJCThermalKokkos<DeviceType>::~FixSPHJCThermalKokkos()
@@ -198,25 +209,20 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   FixSPHJCThermal::init();
   if (!force->pair_match("^sph/jc-thermal", 0)->kokkosable)
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
-  // the other sphcut styles read and write the state: under /kk only their /kk variants do that
-  // on the device (a CPU variant would read a stale host copy)
-  for (int i = 0; i < modify->nfix; i++) {
-    const std::string st = modify->fix[i]->style;
-    if ((utils::strmatch(st, "^heat/fmfs") || utils::strmatch(st, "^contact/tri-penalty")) &&
-        !modify->fix[i]->kokkosable)
+  // the other sphcut styles (those that attach to this fix) read and write the state: under /kk
+  // only their /kk variants do that on the device (a CPU variant would read a stale host copy)
+  for (int i = 0; i < modify->nfix; i++)
+    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i]) && !modify->fix[i]->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: fix {} {} is the CPU style; use its /kk variant "
-                 "(-sf kk, or the style name with /kk)", modify->fix[i]->id, st);
-  }
+                 "(-sf kk, or the style name with /kk)", modify->fix[i]->id, modify->fix[i]->style);
   for (int i = 0; i < modify->ncompute; i++)
-    if (utils::strmatch(modify->compute[i]->style, "^surface/lambda") && !modify->compute[i]->kokkosable)
+    if (dynamic_cast<sphcut::AttachedStyle *>(modify->compute[i]) && !modify->compute[i]->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: compute {} {} is the CPU style; use its /kk variant "
                  "(-sf kk, or the style name with /kk)", modify->compute[i]->id, modify->compute[i]->style);
   // the state comes to the host every peratom_every steps (default: the thermo interval) and on
   // output steps; LAMMPS refuses consumers of f_ID per-atom values at other steps
   peratom_freq = peratom_every > 0 ? peratom_every : (output->thermo_every > 0 ? output->thermo_every : 1);
   sphcut::fence_timers() = fence == 1;
-  therm_bit = 0;    // fix heat/fmfs/kk (initialised after this fix) registers again
-  therm_step = -1;
   atomKK->k_mass.modify<LMPHostType>();
   atomKK->k_mass.sync<DeviceType>();
   upload_tables();
@@ -240,7 +246,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_fo
 {
   atomKK->sync(Host, V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
   k_state.sync_host();
-  therm_step = -1;    // atoms or state may have changed since the last step: heat recomputes its limit
   setup_state();
   k_state.modify_host();
   pre_force(vflag);
@@ -260,15 +265,13 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
   auto type = atomKK->k_type.view<DeviceType>();
   auto mat = d_mat;
   auto h = d_h;
-  auto dtlim = k_dtlim.template view<DeviceType>();
-  const int gb = groupbit, tb = toolbit, cb = clampbit, use_dtlim = device_dt_limits();
+  const int gb = groupbit, tb = toolbit, cb = clampbit;
   auto st = k_state.template view<DeviceType>();
   const double c = cfl, vm = vmax, tm = tmax;
   double dtloc = 1.0e300;
   Kokkos::parallel_reduce("sphcut:sph:stable_dt",
       sphcut::range<DeviceType>(0, atom->nlocal),
       KOKKOS_LAMBDA(const int i, double &m) {
-        if (use_dtlim && i == 0 && dtlim(0) < m) m = dtlim(0);
         if (!(mask(i) & gb)) return;
         const double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
         const int t = type(i);
@@ -277,7 +280,9 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt(
         if (d < m) m = d;
       },
       Kokkos::Min<double>(dtloc));
-  return finish_dt(dtloc);
+  // with the limits the attached styles hold in their slots (setup: host copies are due anyway)
+  k_dtlim.sync_host();
+  return finish_dt(std::min(dtloc, device_limits()));
 }
 
 // a particle ran away (the step's minimum came back -1): the host's velocities, positions and
@@ -433,25 +438,16 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.clampbit = clampbit;
   k.use_rmass = atom->rmass_flag;
   k.want_dt = cfl > 0.0;
-  k.use_dtlim = device_dt_limits();
-  k.dtlim = k_dtlim.template view<DeviceType>();
   k.dt = dtv;
   k.dtf = dtf;
   k.cfl = cfl;
   k.vmax = vmax;
   k.tmax = tmax;
-  k.therm_bit = therm_bit;
-  k.therm_every = therm_every;
-  k.therm_F = thermal_cfl;
-  double sums[3] = {0.0, 1.0e300, 1.0e300};
-  Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k, sums);
-  plastic_work += sums[0];
-  dt_next = sums[1];
-  if (therm_bit) {
-    therm_dt = sums[2];
-    therm_F = thermal_cfl;
-    therm_step = update->ntimestep;
-  }
+  // into the device view (no fence): end_of_step reads it with the styles' slots
+  k_dtlim.template sync<DeviceType>();
+  Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k,
+                          Kokkos::subview(k_dtlim.template view<DeviceType>(), std::make_pair(0, (int) SLOT0)));
+  k_dtlim.template modify<DeviceType>();
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
 }
@@ -459,7 +455,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step()
 {
   sphcut::FencedTimer timer(cpu_time);
-  if (cfl > 0.0) apply_dt(finish_dt(dt_next));
+  // the step's sums and the styles' slots (written by their kernels since the last copy; the heat
+  // fix's after this fix's final_integrate) to the host: the one host round trip of a step
+  k_dtlim.sync_host();
+  plastic_work += k_dtlim.view_host()(STEP_WORK);
+  if (cfl > 0.0) apply_dt(finish_dt(std::min(k_dtlim.view_host()(STEP_DT), device_limits())));
   // dumps and f_ID outputs read the host array on output steps and every peratom_freq steps
   if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_state.sync_host();
 }

@@ -24,6 +24,9 @@ FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
 #include "sphcut_material.h"
 #include "sphcut_migrate_kokkos.h"
 
+#include <utility>
+#include <vector>
+
 namespace LAMMPS_NS {
 
 // what the /kk pair needs of the fix, whatever device type the fix was built for
@@ -31,16 +34,29 @@ class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
  public:
   FixSPHJCThermalKokkosBase(class LAMMPS *lmp, int narg, char **arg) : FixSPHJCThermal(lmp, narg, arg) {}
   DAT::tdual_double_2d k_state;    // host view = FixSPHJCThermal::state
-  // the thermal time step limit of fix heat/fmfs/kk (sphcut_thermal.h thermal_dt_limit over its
-  // group), taken in the same reduction as the mechanical one: the heat fix registers its group
-  // and sub-cycling interval at init and reads the result (no reduction of its own per step)
-  int therm_bit = 0, therm_every = 1;
-  double therm_dt = 1.0e300, therm_F = 0.0;
-  bigint therm_step = -1;    // step of the last final_integrate that computed therm_dt
-  // element 0: a dt limit an attached /kk style writes on the device each step
-  // (AttachedStyle::dt_limit_on_device); the second-half reduction takes it into its minimum
+  // what the host reads of a step, once, at end_of_step (the one host round trip of a step):
+  // STEP_WORK the plastic work of the step and STEP_DT this rank's Courant limit, both from
+  // final_integrate's reduction; from SLOT0 on one slot per attached style (its dt_slot, given at
+  // attach), where the style's own kernel writes its dt limit on the device.  The fix takes the
+  // minimum over its own limit and the slots whose style says they hold this step's limit
+  // (AttachedStyle::dt_limit_on_device), knowing nothing of what a style computes.
+  enum { STEP_WORK = 0, STEP_DT = 1, SLOT0 = 2 };
   DAT::tdual_double_1d k_dtlim;
+  // a style's slot as a one-element device view (its kernel writes element 0; the caller syncs
+  // k_dtlim to its device type before and marks it modified there after)
+  template <class DT> typename ArrayTypes<DT>::t_double_1d dt_slot_view(const sphcut::AttachedStyle *st)
+  {
+    const int k = SLOT0 + st->dt_slot;
+    return Kokkos::subview(k_dtlim.template view<DT>(), std::make_pair(k, k + 1));
+  }
   double courant() const { return cfl; }
+  double thermal_courant() const { return thermal_cfl; }
+  // FixSPHJCThermal::attach, and a slot of k_dtlim for the style
+  void attach(sphcut::AttachedStyle *style) override;
+
+ protected:
+  std::vector<const sphcut::AttachedStyle *> slot_owner;    // the style of each slot (never reused)
+  double device_limits();    // this step's limits of the attached styles that hold them in their slots
 };
 
 template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermalKokkosBase {
@@ -89,7 +105,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   }
   void check_close_pairs() override;
   void report_runaway() override;
-  int device_dt_limits();
 
   // the state follows its atoms by tag on the device, on any number of ranks (no host
   // exchange, see .cpp; keyword migrate device)
@@ -101,7 +116,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void *extract(const char *, int &) override;
 
  protected:
-  double dt_next;              // this rank's stable dt, from final_integrate's reduction
   int remap;                   // 1: state rows follow the atoms by tag during a run, 0: grow callback
   int nrows;                   // rows holding the state of the atoms labelled in k_rowtag
   DAT::tdual_tagint_1d k_rowtag;    // tag of the atom whose state each row holds

@@ -24,46 +24,33 @@
 
 using namespace LAMMPS_NS;
 using sphcut::StateLayout;
+using sphcut::NPK;
+using sphcut::PK_M;
+using sphcut::PK_R;
 
 namespace {
 
-/* what a particle's neighbours read of it, packed in one row (160 bytes, 5 memory sectors) in
-   the stress pass: position, predicted velocity, density, mass (0: not an SPH solid particle of
-   the group, skipped), sigma/rho^2, artificial stress.  The pair kernel's cost is the irregular
-   loads of its neighbours' data (Nsight Compute: L1-bound, not DRAM- or FLOP-bound); one
-   contiguous row instead of pieces of x, the 49-column state row, mask, type, mass, sigma and R
-   halves the sectors each neighbour costs.                                                      */
-enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_A = 8, PK_R = 14, NPK = 20 };
+/* what a particle's neighbours read of it: one packed row (sphcut_pair.h PackedRow, 160 bytes, 5
+   memory sectors) built in the stress pass (sphcut::pack_row), read by the neighbour passes
+   (sphcut::unpack_i, unpack_j).  The pair kernel's cost is the irregular loads of its
+   neighbours' data (Nsight Compute: L1-bound, not DRAM- or FLOP-bound); one contiguous row
+   instead of pieces of x, the 49-column state row, mask, type, mass, sigma and R halves the
+   sectors each neighbour costs.  The device row has no host extension (NPK columns).           */
 
-// particle i's side of its pairs, from its packed row
+// particle i's side of its pairs, from its packed row; R_i with artificial stress
 template <class PK>
 KOKKOS_INLINE_FUNCTION void gather_i(const PK &pk, int i, int any_as, double *xi, double *vi, sphcut::PairIn &in)
 {
-  for (int a = 0; a < 3; a++) {
-    xi[a] = pk(i, PK_X + a);
-    vi[a] = pk(i, PK_V + a);
-  }
-  in.rho_i = pk(i, PK_RHO);
-  in.A_i = &pk(i, PK_A);
+  sphcut::unpack_i(&pk(i, 0), xi, vi, in);
   in.R_i = any_as ? &pk(i, PK_R) : nullptr;
 }
 
 // the inputs of pair i-j; false when j is beyond the cutoff or not in the SPH solid
 template <class PK>
-KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair &tp, int j, int any_as, const double *xi,
+KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair &tp, int j, const double *xi,
                                      const double *vi, sphcut::PairIn &in, double &mj)
 {
-  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pk(j, PK_X + a);
-  in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-  if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
-  mj = pk(j, PK_M);
-  if (mj == 0.0) return false;
-  for (int a = 0; a < 3; a++) in.dv[a] = pk(j, PK_V + a) - vi[a];
-  sphcut::set_type_pair(tp, in);
-  in.rho_j = pk(j, PK_RHO);
-  in.A_j = &pk(j, PK_A);
-  in.R_j = any_as ? &pk(j, PK_R) : nullptr;
-  return true;
+  return sphcut::unpack_j(&pk(j, 0), tp, xi, vi, in, mj);
 }
 
 // the rates of particle i from its neighbour sums, into its state row
@@ -276,16 +263,13 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   using SL = StateLayout;
   Kokkos::parallel_for("sphcut:pair:stress_pass",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
-        for (int a = 0; a < 3; a++) pk(i, PK_X + a) = av.x(i, a);
+        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
         if (!(av.mask(i) & gb) || sphcut::role_from_mask(av.mask(i), tb, cb) == SL::TOOL) {
-          pk(i, PK_M) = 0.0;    // not in the SPH solid: its neighbours skip it
+          sphcut::pack_outside(xi, &pk(i, 0));    // not in the SPH solid: its neighbours skip it
           return;
         }
-        for (int a = 0; a < 3; a++) pk(i, PK_V + a) = av.st(i, SL::VEST + a);
-        pk(i, PK_RHO) = av.st(i, SL::RHO_F);
-        pk(i, PK_M) = use_rmass ? av.rmass(i) : av.mass(av.type(i));
-        sphcut::particle_stress(mt(av.type(i)), dim, any_as, av.st(i, SL::RHO_F), av.st(i, SL::TEMP_F), &av.st(i, SL::SF),
-                                &pk(i, PK_A), &pk(i, PK_R));
+        sphcut::pack_row(mt(av.type(i)), dim, any_as, xi, &av.st(i, 0),
+                         use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
       });
 }
 
@@ -323,7 +307,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
         const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, any_as, xi, vi, in, mj)) continue;
+          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
           if (HALF && (NEWTON || j < nlocal))
@@ -402,7 +386,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
               const int j = nv.neighbors(i, jj) & NEIGHMASK;
               sphcut::PairIn in = in_i;
               double mj;
-              if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, any_as, xi, vi, in, mj)) return;
+              if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) return;
               sphcut::PairOut out;
               sphcut::pair_terms<DIM>(kind, in, out);
               sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{s.v});
@@ -441,7 +425,7 @@ void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
         const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, 0, xi, vi, in, mj)) continue;
+          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) continue;
           double w, wfac, Mg[3], work;
           sphcut::kernel_w_gradfac_pre(kind, sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
           sphcut::hourglass_pair<DIM>(kappa, in, wfac, &nv.lg(i, 0), &nv.lg(j, 0), Mg, work);

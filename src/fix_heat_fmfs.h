@@ -56,6 +56,7 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   // thermal time step limit on this rank for thermal Courant number F, with the
   // sub-cycling interval (fix sph/jc-thermal stable_dt takes the minimum over ranks)
   double dt_limit(double, double F) const override;
+  std::string starts_from_temperature() const override { return "Fix heat/fmfs"; }
 
  protected:
   enum { FMFS, BROOKSHAW };

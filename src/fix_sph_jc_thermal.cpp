@@ -304,14 +304,16 @@ void FixSPHJCThermal::setup_state()
 }
 
 // particles whose temperature was never set (no keyword temp) start at their material's Tref:
-// with fix heat/fmfs, whose conduction starts from these temperatures, a one-line message says
-// so, with the temperature of each type (not silently: issue 23)
+// with an attached style whose physics starts from these temperatures (fix heat/fmfs: its
+// conduction), a one-line message in its name says so, with the temperature of each type (not
+// silently: issue 23)
 void FixSPHJCThermal::report_default_temperature(const std::vector<bigint> &ntref)
 {
-  bool heat = false;
-  for (int i = 0; i < modify->nfix; i++)
-    if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) heat = true;
-  if (!heat) return;
+  prune_attached();    // (setup_pre_force: before setup prunes the styles deleted since the last run)
+  std::string who;
+  for (auto *st : timed)
+    if (who.empty()) who = st->starts_from_temperature();
+  if (who.empty()) return;
   std::vector<bigint> all(ntref.size(), 0);
   MPI_Allreduce(ntref.data(), all.data(), (int) ntref.size(), MPI_LMP_BIGINT, MPI_SUM, world);
   bigint n = 0;
@@ -322,8 +324,8 @@ void FixSPHJCThermal::report_default_temperature(const std::vector<bigint> &ntre
     types += fmt::format("{}type {}: {:.6g}", types.empty() ? "" : ", ", t, model->materials()[t].Tref);
   }
   if (n && comm->me == 0)
-    utils::logmesg(lmp, "Fix heat/fmfs: no initial temperature given for {} particle(s) (fix sph/jc-thermal keyword "
-                   "temp): they start at their material's Tref (pair_coeff, default 300), {}\n", n, types);
+    utils::logmesg(lmp, "{}: no initial temperature given for {} particle(s) (fix sph/jc-thermal keyword "
+                   "temp): they start at their material's Tref (pair_coeff, default 300), {}\n", who, n, types);
 }
 
 /* ----------------------------------------------------------------------
@@ -387,9 +389,11 @@ void FixSPHJCThermal::final_integrate()
 
 /* ----------------------------------------------------------------------
    stable time step (adaptive dt with keyword cfl):
-     dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics)
-     dt <= fix heat/fmfs dt_limit: thermal_cfl * rho cp h^2 / k * 2/(N + 1)
-     dt <= fix contact/tri-penalty dt_limit: dtfac * cfl of the spring's stability limit
+     dt = cfl * min_i h_i / (c_l,i + |v_i|)       (mechanics, this fix)
+     dt <= each attached style's own limit, its dt_limit(cfl, thermal_cfl)
+           (the conduction of fix heat/fmfs, the penalty spring of fix
+           contact/tri-penalty: each knows its physics, this fix only takes
+           the minimum)
 ------------------------------------------------------------------------- */
 
 double FixSPHJCThermal::stable_dt()

@@ -51,11 +51,14 @@ using sphcut::Material;
 static constexpr int NREVERSE = sphcut::NACC_REVERSE;
 enum CommMode { COMM_ACC = 0, COMM_HG = 1 };
 
-// a particle's packed row: what its neighbours read of it (position, predicted velocity, density,
-// mass (0: not in the SPH solid, skipped), volume m/rho, sigma/rho^2, artificial stress and
-// whether it is nonzero), one contiguous row instead of pieces of x, the state row, mask, type,
-// mass and the stresses
-enum Pack { PK_X = 0, PK_V = 3, PK_RHO = 6, PK_M = 7, PK_VOL = 8, PK_HASR = 9, PK_A = 10, PK_R = 16, NPK = 22 };
+// a particle's packed row: what its neighbours read of it (sphcut_pair.h PackedRow, the /kk pair's
+// layout; sphcut::pack_row, unpack_i, unpack_j), with the host extension (the volume m/rho and
+// whether the artificial stress is nonzero: a division and a test per pair saved)
+using sphcut::NPK_HOST;
+using sphcut::PK_HASR;
+using sphcut::PK_M;
+using sphcut::PK_R;
+using sphcut::PK_VOL;
 
 /* ---------------------------------------------------------------------- */
 
@@ -109,7 +112,7 @@ void PairSPHJCThermal::grow_scratch(int n)
   if (n <= nmax) return;
   nmax = n;
   free_scratch();
-  memory->create(pack, nmax, NPK, "pair:pack");
+  memory->create(pack, nmax, NPK_HOST, "pair:pack");
   memory->create(acc, nmax, sphcut::NACC, "pair:acc");
   if (mdl.hourglass_coefficient() > 0.0) {
     memory->create(lgrad, nmax, 9, "pair:lgrad");
@@ -213,22 +216,12 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
     if (i < nacc)
       for (int k = 0; k < sphcut::NACC; k++) acc[i][k] = 0.0;
     double *p = pack[i];
-    for (int a = 0; a < 3; a++) p[PK_X + a] = x[i][a];
     if (!(mask[i] & groupbit) || sphcut::role_from_mask(mask[i], toolbit, clampbit) == F::TOOL) {
-      p[PK_M] = 0.0;
+      sphcut::pack_outside(x[i], p);
       continue;
     }
-    const double *s = st[i];
-    const double m = rmass ? rmass[i] : mass[type[i]];
-    for (int a = 0; a < 3; a++) p[PK_V + a] = s[F::VEST + a];
-    p[PK_RHO] = s[F::RHO_F];
-    p[PK_M] = m;
-    p[PK_VOL] = m / s[F::RHO_F];
-    sphcut::particle_stress(mat[type[i]], dim, any_as, s[F::RHO_F], s[F::TEMP_F], &s[F::SF], &p[PK_A], &p[PK_R]);
-    p[PK_HASR] = 0.0;
-    if (any_as)
-      for (int k = 0; k < 6; k++)
-        if (p[PK_R + k] != 0.0) p[PK_HASR] = 1.0;
+    sphcut::pack_row(mat[type[i]], dim, any_as, x[i], st[i], rmass ? rmass[i] : mass[type[i]], p);
+    sphcut::pack_row_extension(any_as, p);
   }
 
   if (dim == 2) {
@@ -287,8 +280,6 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     if (mi == 0.0) continue;    // not in the SPH solid
     const sphcut::TypePair *tpi = mdl.type_pair_row(type[i]);
     const double vi = pi[PK_VOL];
-    const double xi[3] = {pi[PK_X], pi[PK_X + 1], pi[PK_X + 2]};
-    const double veli[3] = {pi[PK_V], pi[PK_V + 1], pi[PK_V + 2]};
     const bool ri = any_as && pi[PK_HASR] != 0.0;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
@@ -300,21 +291,14 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     // the inputs of pair i-j from the packed rows; false beyond the cutoff, or when j is not
     // in the SPH solid
     sphcut::PairIn in;
-    in.rho_i = pi[PK_RHO];
-    in.A_i = &pi[PK_A];
+    double xi[3], veli[3];
+    sphcut::unpack_i(pi, xi, veli, in);
     auto gather = [&](int j, const double *pj) {
-      const sphcut::TypePair &tp = tpi[type[j]];
-      for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pj[PK_X + a];
-      in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-      if (in.r2 >= tp.cutsq || in.r2 == 0.0 || pj[PK_M] == 0.0) return false;
-      for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - veli[a];
-      sphcut::set_type_pair(tp, in);
-      in.rho_j = pj[PK_RHO];
-      in.A_j = &pj[PK_A];
+      double mj;
+      if (!sphcut::unpack_j(pj, tpi[type[j]], xi, veli, in, mj)) return false;
       // the artificial stress term of a pair whose two tensors are zero (compression) adds
       // exactly nothing: skipped
       in.R_i = (ri || (any_as && pj[PK_HASR] != 0.0)) ? &pi[PK_R] : nullptr;
-      in.R_j = &pj[PK_R];
       return true;
     };
 
@@ -408,23 +392,18 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     sphcut::PairIn in;
-    in.rho_i = pi[PK_RHO];
+    double xi[3], veli[3];
+    sphcut::unpack_i(pi, xi, veli, in);
     double hi[4] = {0.0, 0.0, 0.0, 0.0};
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      const double *pj = pk[j];
-      const sphcut::TypePair &tp = tpi[type[j]];
-      for (int a = 0; a < 3; a++) in.dx[a] = pi[PK_X + a] - pj[PK_X + a];
-      in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-      if (in.r2 >= tp.cutsq || in.r2 == 0.0 || pj[PK_M] == 0.0) continue;
-      for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - pi[PK_V + a];
-      sphcut::set_type_pair(tp, in);
-      in.rho_j = pj[PK_RHO];
+      double mj;
+      if (!sphcut::unpack_j(pk[j], tpi[type[j]], xi, veli, in, mj)) continue;
       double w, wfac;
       sphcut::kernel_w_gradfac_pre(mdl.kernel(), sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
       double Mg[3], work;
       sphcut::hourglass_pair<DIM>(mdl.hourglass_coefficient(), in, wfac, lgrad[i], lgrad[j], Mg, work);
-      const double mj = pj[PK_M], mm = mi * mj;
+      const double mm = mi * mj;
       for (int a = 0; a < DIM; a++) hi[a] += mm * Mg[a];
       hi[3] += mj * 0.5 * work;
       if (NEWTON || j < nlocal) {
@@ -507,5 +486,5 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
 
 double PairSPHJCThermal::memory_usage()
 {
-  return (double) nmax * (NPK + sphcut::NACC + (mdl.hourglass_coefficient() > 0.0 ? 13 : 0)) * sizeof(double);
+  return (double) nmax * (NPK_HOST + sphcut::NACC + (mdl.hourglass_coefficient() > 0.0 ? 13 : 0)) * sizeof(double);
 }

@@ -9,6 +9,7 @@
 
 #include "sphcut_kernels.h"
 #include "sphcut_material.h"
+#include "sphcut_state.h"
 
 // the per-pair functions are inlined into the neighbour loops (sphcut_math.h SPHCUT_LOOP_INLINE)
 #define SPHCUT_PAIR_INLINE SPHCUT_LOOP_INLINE
@@ -288,6 +289,95 @@ SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, dou
   if (!with_as) return;
   if (mt.as_eps > 0.0 && !no_positive_eigenvalue(sig)) artificial_stress(mt.as_eps, sig, rho_f, dim, R);
   else for (int k = 0; k < 6; k++) R[k] = 0.0;
+}
+
+/* ---- a particle's packed row: what its neighbours read of it -------------
+   One contiguous row per particle (local and ghost), built once per force
+   evaluation, instead of pieces of x, the state row, mask, type, mass, sigma
+   and R: position, predicted velocity, density, mass (0: not in the SPH
+   solid, skipped: only its position is packed), sigma/rho^2 and the
+   artificial stress.  NPK = 20 doubles, 160 bytes (5 sectors of 32 bytes):
+   the neighbour loads are what the pair kernel's time goes to on a GPU
+   (L1-bound), so the device row carries nothing the kernel can form from it
+   (the volume m/rho).  A host driver may extend the row past NPK with values
+   derived from it (PK_VOL, PK_HASR: the CPU pair's per-pair division and
+   test of R saved; pack_row_extension).                                    */
+enum PackedRow : int {
+  PK_X = 0,       // position (3)
+  PK_V = 3,       // predicted velocity (3, state VEST)
+  PK_RHO = 6,     // density of the force state (RHO_F)
+  PK_M = 7,       // mass; 0: not in the SPH solid (outside the group, or a tool particle)
+  PK_A = 8,       // sigma/rho^2 (6, Voigt; particle_stress)
+  PK_R = 14,      // artificial stress (6; written only when some material has one)
+  NPK = 20,
+  // host extension (the CPU pair's rows only)
+  PK_VOL = NPK,          // m/rho (the division mj / rho_j, the same value)
+  PK_HASR = NPK + 1,     // 1 when R is nonzero (a pair whose two R are zero skips the term)
+  NPK_HOST = NPK + 2
+};
+
+// the packed row of a particle outside the SPH solid: its position, mass 0
+SPHCUT_INLINE void pack_outside(const double *x, double *row)
+{
+  for (int a = 0; a < 3; a++) row[PK_X + a] = x[a];
+  row[PK_M] = 0.0;
+}
+
+// the packed row of a particle of the SPH solid from its position, its state row s (the force
+// state of fix sph/jc-thermal: RHO_F, SF, TEMP_F, VEST), its mass and material
+SPHCUT_INLINE void pack_row(const Material &mt, int dim, int with_as, const double *x, const double *s, double m,
+                            double *row)
+{
+  using SL = StateLayout;
+  for (int a = 0; a < 3; a++) {
+    row[PK_X + a] = x[a];
+    row[PK_V + a] = s[SL::VEST + a];
+  }
+  row[PK_RHO] = s[SL::RHO_F];
+  row[PK_M] = m;
+  particle_stress(mt, dim, with_as, s[SL::RHO_F], s[SL::TEMP_F], &s[SL::SF], &row[PK_A], &row[PK_R]);
+}
+
+// the host extension of a packed row (after pack_row)
+SPHCUT_INLINE void pack_row_extension(int with_as, double *row)
+{
+  row[PK_VOL] = row[PK_M] / row[PK_RHO];
+  row[PK_HASR] = 0.0;
+  if (with_as)
+    for (int k = 0; k < 6; k++)
+      if (row[PK_R + k] != 0.0) row[PK_HASR] = 1.0;
+}
+
+// particle i's side of its pairs from its row: position, velocity, density and sigma/rho^2
+// (R_i: the driver's choice, see unpack_j)
+SPHCUT_INLINE void unpack_i(const double *pi, double *xi, double *vi, PairIn &in)
+{
+  for (int a = 0; a < 3; a++) {
+    xi[a] = pi[PK_X + a];
+    vi[a] = pi[PK_V + a];
+  }
+  in.rho_i = pi[PK_RHO];
+  in.A_i = &pi[PK_A];
+}
+
+// the inputs of pair i-j from j's row: false when j is beyond the cutoff (or on top of i), or
+// not in the SPH solid (mj 0; loaded only within the cutoff).  in.R_j points to j's artificial
+// stress; pair_terms reads R_i and R_j only where the driver set in.R_i (nullptr: no artificial
+// stress term), so a driver without artificial stress loads neither.
+SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair &tp, const double *xi, const double *vi, PairIn &in,
+                            double &mj)
+{
+  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pj[PK_X + a];
+  in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+  if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
+  mj = pj[PK_M];
+  if (mj == 0.0) return false;
+  for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - vi[a];
+  set_type_pair(tp, in);
+  in.rho_j = pj[PK_RHO];
+  in.A_j = &pj[PK_A];
+  in.R_j = &pj[PK_R];
+  return true;
 }
 
 }    // namespace sphcut

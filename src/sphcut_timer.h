@@ -30,8 +30,11 @@ class ScopedTimer {
 
 // a sphcut style attached to fix sph/jc-thermal: it attaches itself in its init
 // (FixSPHJCThermal::attach), adds the wall time of its work to cpu_time (a row of the timing
-// table), and may limit the adaptive time step (dt_limit: this rank's limit, the fix takes the
-// minimum over the styles and ranks)
+// table), and may limit the adaptive time step: it reports its own limit, the fix takes the
+// minimum over the styles, its own Courant limit and the ranks without knowing what each style
+// computes.  On the host through dt_limit; under /kk through its slot (dt_slot) of the fix's
+// device view of limits, which the style's own kernel writes, so that no style costs a host
+// round trip of its own per step.
 class AttachedStyle {
  public:
   // the same exception specification as LAMMPS' Pointers::~Pointers(), which the styles' other
@@ -43,12 +46,21 @@ class AttachedStyle {
   // Taken from the type, not a version number, so it follows LAMMPS wherever it changes.
   virtual ~AttachedStyle() noexcept(std::is_nothrow_destructible<LAMMPS_NS::Pointers>::value) {}
   virtual std::string timing_name() const = 0;
-  // stable dt of this style's physics for the Courant numbers of fix sph/jc-thermal
+  // stable dt of this style's physics on this rank, for the Courant numbers of fix
+  // sph/jc-thermal (1e300: no limit)
   virtual double dt_limit(double /*cfl*/, double /*thermal_cfl*/) const { return 1.0e300; }
-  // 1: the style writes its limit (already scaled by the Courant numbers) into the device view
-  // FixSPHJCThermalKokkosBase::k_dtlim each step instead (/kk, no host round trip), and
-  // dt_limit returns 1e300
+  // 1: the slot dt_slot holds this style's limit of the current step (already scaled by the
+  // Courant numbers, written by the style's own kernel on the device: /kk, see
+  // FixSPHJCThermalKokkosBase::k_dtlim), and dt_limit returns 1e300 meanwhile; 0: dt_limit
+  // gives the limit.  Asked each time the fix takes the minimum, so a style may switch (the
+  // heat fix's slot holds the limit after its final_integrate, not at the setup of a run).
   virtual int dt_limit_on_device() const { return 0; }
+  // this style's slot in the /kk fix's device view of limits, given by the fix at attach (-1: none)
+  int dt_slot = -1;
+  // a style whose physics starts from the particles' temperatures (heat conduction) gives its
+  // name for the message that particles without an initial temperature start at their
+  // material's Tref (fix sph/jc-thermal, no keyword temp); empty: the style does not care
+  virtual std::string starts_from_temperature() const { return ""; }
   double cpu_time = 0.0;
 };
 

@@ -665,3 +665,105 @@ TEST(KokkosThermal, DecompositionOnAnyStepAsOnTheCpu)
   EXPECT_LT(de, 1e-10);
   EXPECT_LT(dp, 1e-10);
 }
+
+/* ----------------------------------------------------------------------
+   each attached style's dt limit is honoured, through its own slot under /kk (AttachedStyle
+   dt_limit, dt_slot): a 4 x 3 steel block (2D, 1 mm spacing) moving at 1 m/s onto a plate, with
+   an adaptive step (cfl 0.3, Courant ~6.7e-8 s), a conductivity that makes the thermal limit of
+   fix heat/fmfs bind before the contact (~3.1e-8 s) and a penalty factor that makes the spring's
+   limit of fix contact/tri-penalty bind below it near the plate (~1.7e-8 s).  Every step: the
+   next dt <= the thermal limit of the densities after the corrector (computed here), equal to it
+   on the steps before the contact, and below it by more than 10 % on the steps the spring binds.
+   Ignoring the heat fix's slot gives the Courant step (~2x the thermal limit), ignoring the
+   contact fix's gives no spring-bound step.  With and without a Dirichlet group (the heat fix's
+   limit rides on its Dirichlet reduction or has one of its own) and sub-cycling (every 2);
+   CPU and /kk take the same steps.
+------------------------------------------------------------------------- */
+
+namespace {
+
+std::string num(double x)
+{
+  char b[40];
+  snprintf(b, sizeof(b), "%.17g", x);
+  return b;
+}
+
+// rows: step, the dt of the next step, the least density of the heat fix's group after the step
+std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &args, const std::string &heatargs)
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  if (me == 0) {
+    const double lo[3] = {-0.02, -0.005, -0.02}, hi[3] = {0.02, 0.0, 0.02};
+    const std::vector<double> tri = box_triangles(lo, hi);
+    FILE *fp = fopen("dtplate.stl", "w");
+    fprintf(fp, "solid plate\n");
+    for (size_t t = 0; t < tri.size(); t += 9) {
+      fprintf(fp, "facet normal 0 0 0\nouter loop\n");
+      for (int k = 0; k < 3; k++)
+        fprintf(fp, "vertex %.17g %.17g %.17g\n", tri[t + 3 * k], tri[t + 3 * k + 1], tri[t + 3 * k + 2]);
+      fprintf(fp, "endloop\nendfacet\n");
+    }
+    fprintf(fp, "endsolid plate\n");
+    fclose(fp);
+    std::remove("dtlim.dat");
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  Lammps l(MPI_COMM_WORLD, args);
+  // lower row 0.03 mm above the contact distance 0.5 h / sfac (h 1.3 mm, sfac 1.2)
+  const double y0 = 0.5 * 1.3e-3 / 1.2 + 0.03e-3;
+  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+          "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3 units box", "create_box 1 box",
+          "lattice sq 1e-3 origin 0 " + num(y0 / 1.0e-3) + " 0",
+          "region blk block -0.1e-3 3.1e-3 " + num(y0 - 0.1e-3) + " " + num(y0 + 2.1e-3) + " -0.5e-3 0.5e-3 units box",
+          "create_atoms 1 region blk", "region topr block INF INF " + num(y0 + 1.9e-3) + " INF INF INF units box",
+          "group top region topr", "mass 1 7.8e-3", "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 2e7",
+          "fix sph all sph/jc-thermal cfl 0.3 peratom_every 1", "fix heat all heat/fmfs " + heatargs,
+          "fix tool all contact/tri-penalty stl dtplate.stl pfac 10 dfac 0.1 dtfac 0.5",
+          "velocity all set 0 -1 0 units box", "timestep 1e-8", "compute rho all reduce min f_sph[1]",
+          "variable dt equal f_sph[1]", "variable rho equal c_rho",
+          "fix out all print 1 \"$(step) $(v_dt:%.17g) $(v_rho:%.17g)\" file dtlim.dat screen no", "run 1500"});
+  MPI_Barrier(MPI_COMM_WORLD);
+  return numeric_rows("dtlim.dat", 3);
+}
+
+}    // namespace
+
+TEST(KokkosThermal, EachStyleReportsItsDtLimit)
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  const double h = 1.3 * sqrt(7.8e-3 / 7800.0), cp = 477.0, kappa = 2e7, F = 0.1;
+  const std::vector<std::pair<std::string, int>> cases = {{"", 1}, {"every 2 dirichlet top 300", 2}};
+  for (const auto &c : cases) {
+    const auto cpu = dt_limit_run({}, c.first);
+    const auto kk = dt_limit_run(KK_FULL, c.first);
+    ASSERT_EQ(cpu.size(), 1501u);
+    ASSERT_EQ(kk.size(), cpu.size());
+    for (const auto *rows : {&cpu, &kk}) {
+      const char *what = rows == &cpu ? "CPU" : "/kk";
+      int nheat = 0, ncontact = 0;
+      double worst = 0.0;
+      for (const auto &r : *rows) {
+        const double lim = F * r[2] * cp * h * h / kappa * 2.0 / (c.second + 1.0);
+        worst = std::max(worst, r[1] / lim - 1.0);
+        if (std::fabs(r[1] / lim - 1.0) < 1e-9) nheat++;
+        if (r[1] < 0.9 * lim) ncontact++;
+      }
+      if (me == 0)
+        std::printf("[ dt limit ] %s heat/fmfs %-26s: %d steps at the thermal limit, %d at the spring's, dt / "
+                    "thermal limit - 1 at most %.2e\n", what, c.first.c_str(), nheat, ncontact, worst);
+      EXPECT_LT(worst, 1e-9) << what << " " << c.first;    // the heat fix's limit honoured every step
+      EXPECT_GT(nheat, 100) << what << " " << c.first;     // ... and binding before the contact
+      EXPECT_GT(ncontact, 20) << what << " " << c.first;   // the contact fix's limit binding near the plate
+    }
+    double d = 0.0;
+    for (size_t r = 0; r < cpu.size(); r++) {
+      ASSERT_EQ(kk[r][0], cpu[r][0]);
+      d = std::max(d, std::fabs(kk[r][1] - cpu[r][1]) / cpu[r][1]);
+    }
+    EXPECT_LT(d, 1e-10) << c.first;    // the same steps
+  }
+}

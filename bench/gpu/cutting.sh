@@ -20,6 +20,18 @@
 #            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py
 #   peer     the peer code (../shared/peer/, its binary in .carry/peer/) and sphcut on the seed-003
 #            case at PEER_NY (41) across over 0.907 mm, one after the other: time, us/step, forces
+#   timeline the 2D cut at PROF_NY (41) across, PROF_STEPS (3000) steps in contact under Nsight Systems
+#            (when nsys is on the machine): kernel time per step against the wall time per step, the
+#            CUDA API calls per step (synchronisations, copies); without nsys the kernel counts only
+#   dtstudy  the seed-003 case at DT_NY (21) across over DT_CUT (0.907e-3 m) for each "cfl dtfac" pair
+#            of DT_SETS (;-separated), DT_JOBS (4) runs at once on the GPU (under MPS where it starts):
+#            steps, wall, Fc/Ft (+- standard error of 5 blocks) over 0.3 mm to the end, rake-face
+#            temperature, energy balance (tool work against internal + kinetic energy and contact
+#            dissipation); wall times of concurrent runs are not timings
+#   launch   the fixed cost of a kernel launch (bench/gpu/launch/launch_overhead.cpp): host and device
+#            time per empty launch, small and 3 KB functors, constant memory or kernel argument
+#   stepcost the 2D cut in contact, PROF_STEPS steps at 11, 21, 41 and 81 across: us/step against the
+#            particle count (the fixed cost per step), LAMMPS' timer table and sphcut's per style
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -333,6 +345,128 @@ peer() {
     cp log.cutting "$OUT/peer-log.$tag" 2>/dev/null
   done
   cp $W/peer$ny/results/force_* "$OUT/peer-force.dat" 2>/dev/null
+  cd "$ROOT"
+}
+
+timeline() {
+  cd $W
+  local ny=${PROF_NY:-41} steps=${PROF_STEPS:-3000}
+  local nsys; nsys=$(command -v nsys || ls /usr/local/cuda/bin/nsys /opt/nvidia/nsight-systems/*/bin/nsys 2>/dev/null | head -1)
+  prof_run tl$ny "$EX2" -var ny $ny -var steps $steps $NEV
+  if [ -n "$nsys" ]; then
+    "$nsys" profile -o $W/tl$ny --force-overwrite true --trace=cuda --sample=none --cpuctxsw=none \
+      "$BIN" $GPUK -in "$EX2" -var xstart 0.6 -var thermoevery 1000 -var printevery 100 -var dumpevery 0 \
+      -var ny $ny -var steps $steps $NEV -log log.tln > screen.tln 2>&1 || tail -5 screen.tln
+    "$nsys" stats -q -r cuda_api_sum,cuda_gpu_kern_sum,cuda_gpu_mem_time_sum -f csv -o $W/tl$ny $W/tl$ny.nsys-rep \
+      > /dev/null 2>&1 || say "timeline: nsys stats failed"
+    for f in $W/tl${ny}_*.csv; do cp "$f" "$OUT/" 2>/dev/null; done
+    say "timeline ny $ny: $(awk '/^Loop time/{printf "loop %.2f s, %d steps", $4, $9}' log.tln) under nsys"
+    python3 - "$W/tl$ny" "$steps" <<'EOP' | tee -a "$SUM"
+import csv, glob, sys
+base, steps = sys.argv[1], float(sys.argv[2])
+def rows(name):
+    f = glob.glob(base + '_' + name + '*.csv')
+    return list(csv.DictReader(open(f[0]))) if f else []
+def col(r, *names):
+    for n in names:
+        for k in r:
+            if k.strip().lower().startswith(n):
+                return r[k]
+    return '0'
+k = rows('cuda_gpu_kern_sum')
+tot = sum(float(col(r, 'total time')) for r in k)
+print('  kernels: %.1f us of GPU time per step, %.1f launches per step' % (tot / 1e3 / steps, sum(float(col(r, 'instances')) for r in k) / steps))
+for r in sorted(k, key=lambda r: -float(col(r, 'total time')))[:16]:
+    print('    %7.2f us/step %6.2f calls/step  %s' % (float(col(r, 'total time')) / 1e3 / steps, float(col(r, 'instances')) / steps, col(r, 'name')[:110]))
+for r in sorted(rows('cuda_api_sum'), key=lambda r: -float(col(r, 'total time')))[:12]:
+    print('  api %7.2f us/step %6.2f calls/step  %s' % (float(col(r, 'total time')) / 1e3 / steps, float(col(r, 'num calls', 'calls')) / steps, col(r, 'name')))
+for r in rows('cuda_gpu_mem_time_sum'):
+    print('  mem %7.2f us/step %6.2f per step  %s' % (float(col(r, 'total time')) / 1e3 / steps, float(col(r, 'count', 'instances')) / steps, col(r, 'operation')))
+EOP
+  else
+    # no profiler on the machine: the device's own clock through CUDA events (kp_timer events mode)
+    local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
+    g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart
+    KP_TIMER_SYNC=events KP_TIMER_SKIP=${KP_SKIP:-6000} KP_TIMER_CALLS=${KP_CALLS:-24000} KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so \
+      KP_TIMER_OUT=$W/kpe$ny.txt prof_run tle$ny "$EX2" -var ny $ny -var steps $steps $NEV
+    say "timeline: no nsys; the device's clock (CUDA events) over a window of calls:"
+    head -40 $W/kpe$ny.txt | sed 's/^/    /' | tee -a "$SUM"
+    cp $W/kpe$ny.txt "$OUT/" 2>/dev/null
+  fi
+  cd "$ROOT"
+}
+
+# one run of the dt study: ny, cfl, dtfac; writes one summary line
+dt_one() {
+  local ny=$1 cfl=$2 dtfac=$3 d=$W/dt/n$1-c$2-d$3
+  mkdir -p $d && cd $d
+  cat > in.dt <<EOI
+include $EX2
+print "EBAL \$(f_cut[13]) \$(f_sph[2]+f_sph[3]-v_e0) \$(f_cut[15]) \$(v_lcut)"
+EOI
+  local t0; t0=$(date +%s.%N)
+  timeout ${DT_TIMEOUT:-560} "$BIN" $GPUK $NEV -in in.dt -var ny $ny -var cut ${DT_CUT:-0.907e-3} -var cfl $cfl -var dtfac $dtfac \
+    -var thermoevery 10000 -var printevery 100 -var dumpevery 0 ${DT_ARGS:-} -log log.dt > screen 2>&1
+  local rc=$? w; w=$(awk -v a="$(date +%s.%N)" -v b=$t0 'BEGIN{print a - b}')
+  local f; f=$(python3 - forces.dat <<'EOP'
+import sys
+rows = [l.split() for l in open(sys.argv[1]) if not l.startswith('#')]
+rows = [[float(x) for x in r] for r in rows if float(r[2]) >= 0.3]
+if len(rows) < 10:
+    print('too short'); sys.exit()
+def blocks(c):
+    n = len(rows) // 5
+    m = [sum(r[c] for r in rows[k * n:(k + 1) * n]) / n for k in range(5)]
+    mean = sum(m) / 5
+    se = (sum((x - mean) ** 2 for x in m) / 20) ** 0.5
+    return mean, se
+fc, ft, tr = blocks(3), blocks(4), blocks(6)
+print('Fc %.1f +- %.1f Ft %.1f +- %.1f Trake %.0f to %.3f mm' % (fc[0], fc[1], ft[0], ft[1], tr[0], rows[-1][2]))
+EOP
+)
+  local e; e=$(awk '/^EBAL/{w=$2; printf "energy: work %.4g J, (work - dE - dissipated)/work %.2e", w, (w - $3 - $4) / w}' log.dt)
+  local err; err=$(grep -h -m1 -E "^(ERROR|WARNING: the run ended)" screen | head -1 | cut -c1-140)
+  say "dt ny $ny cfl $cfl dtfac $dtfac: rc $rc, $(awk '/^Loop time/{t=$4; n=$9} END{printf "%d steps, loop %.1f s", n, t}' log.dt), wall $(printf %.0f $w) s; $f; $e ${err:+; $err}"
+}
+
+dtstudy() {
+  mkdir -p $W/dt
+  local started=0
+  if command -v nvidia-cuda-mps-control > /dev/null; then
+    nvidia-cuda-mps-control -d 2>/dev/null && started=1
+  fi
+  say "dtstudy ny ${DT_NY:-21}, ${DT_JOBS:-4} at once (MPS $started)"
+  local sets="${DT_SETS:-0.3 0.5}" set n=0 ny
+  IFS=';' read -ra sets <<< "$sets"
+  for ny in ${DT_NY:-21}; do
+    for set in "${sets[@]}"; do
+      dt_one $ny $set &
+      n=$((n + 1))
+      if [ $((n % ${DT_JOBS:-4})) = 0 ]; then wait; fi
+    done
+  done
+  wait
+  [ $started = 0 ] || echo quit | nvidia-cuda-mps-control
+  cd "$ROOT"
+}
+
+launch() {
+  local prefix; prefix=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
+  cmake -S "$ROOT/bench/gpu/launch" -B $W/launch -DKokkos_DIR=$prefix/lib/cmake/Kokkos \
+    -DCMAKE_CXX_COMPILER=$prefix/bin/nvcc_wrapper > $W/launch.log 2>&1 && cmake --build $W/launch >> $W/launch.log 2>&1 \
+    || { tail -20 $W/launch.log; say "launch: build failed"; return 1; }
+  say "launch overhead (Kokkos $(grep -o 'KOKKOS_VERSION [0-9]*' $prefix/include/KokkosCore_config.h), one GPU):"
+  $W/launch/launch_overhead 2>&1 | grep -v WARNING | sed 's/^/  /' | tee -a "$SUM"
+}
+
+stepcost() {
+  cd $W
+  local steps=${PROF_STEPS:-2000} ny
+  for ny in ${STEPCOST_NY:-11 21 41 81}; do
+    prof_run sc$ny "$EX2" -var ny $ny -var steps $steps $NEV
+    sed -n '/^Section |/,/^Other/p' log.sc$ny | sed 's/^/    /' >> "$SUM"
+    grep -A14 "sphcut timing" log.sc$ny | sed 's/^/    /' >> "$SUM"
+  done
   cd "$ROOT"
 }
 

@@ -1,0 +1,106 @@
+// The fixed cost of a Kokkos kernel launch on the device machine (issue: the 2D step at 18k
+// particles is a sum of such costs): empty kernels over N = 18,272 indices, launched M times,
+// with a small functor and with one of 3 KB (the size of sphcut's contact and pair functors),
+// through the kernel-argument path (HintLightWeight, what sphcut::range asks for) and Kokkos'
+// default (constant memory above 512 bytes), and reductions into a device View and into a host
+// scalar.  For each: the host's time per launch (submission only: no fence inside the loop) and
+// the time per launch with one fence at the end (what the device takes when the host is ahead).
+// Build: cmake -S bench/gpu/launch -B build-launch -DKokkos_DIR=<prefix>/lib/cmake/Kokkos
+#include <Kokkos_Core.hpp>
+
+#include <chrono>
+#include <cstdio>
+
+namespace {
+double now()
+{
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+struct Small {
+  Kokkos::View<double *> a;
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const
+  {
+    if (i < 0) a(0) = 1.0;
+  }
+};
+
+struct Big {
+  Kokkos::View<double *> a;
+  double pad[380];    // 3 KB of constants, as a functor with many Views and parameters
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const
+  {
+    if (i < 0) a(0) = pad[i & 7];
+  }
+};
+
+struct BigReduce {
+  Kokkos::View<double *> a;
+  double pad[380];
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, double &m) const
+  {
+    m = m < a(i) ? a(i) : m;
+  }
+};
+
+template <class F> void time_for(const char *what, const F &f, int n, int m, bool light)
+{
+  auto run = [&]() {
+    if (light)
+      Kokkos::parallel_for("lo", Kokkos::Experimental::require(Kokkos::RangePolicy<>(0, n),
+                                                                Kokkos::Experimental::WorkItemProperty::HintLightWeight), f);
+    else
+      Kokkos::parallel_for("lo", Kokkos::RangePolicy<>(0, n), f);
+  };
+  for (int k = 0; k < 100; k++) run();
+  Kokkos::fence();
+  double t0 = now();
+  for (int k = 0; k < m; k++) run();
+  double t1 = now();
+  Kokkos::fence();
+  double t2 = now();
+  std::printf("%-44s %5zu B: host %6.2f us/launch, with the device %6.2f us/launch\n", what, sizeof(F),
+              1e6 * (t1 - t0) / m, 1e6 * (t2 - t0) / m);
+}
+}    // namespace
+
+int main(int argc, char **argv)
+{
+  Kokkos::initialize(argc, argv);
+  {
+    const int n = 18272, m = 5000;
+    Kokkos::View<double *> a("a", n);
+    Small s{a};
+    Big b;
+    b.a = a;
+    for (double &p : b.pad) p = 0.0;
+    time_for("empty for, small functor", s, n, m, false);
+    time_for("empty for, small functor, light", s, n, m, true);
+    time_for("empty for, 3 KB functor (constant memory)", b, n, m, false);
+    time_for("empty for, 3 KB functor, light (argument)", b, n, m, true);
+    time_for("empty for, small functor, light, n = 1", s, 1, m, true);
+    BigReduce r;
+    r.a = a;
+    for (double &p : r.pad) p = 0.0;
+    Kokkos::View<double> d("d");
+    auto pol = Kokkos::Experimental::require(Kokkos::RangePolicy<>(0, n), Kokkos::Experimental::WorkItemProperty::HintLightWeight);
+    for (int k = 0; k < 100; k++) Kokkos::parallel_reduce("lr", pol, r, Kokkos::Max<double, Kokkos::DefaultExecutionSpace::memory_space>(d));
+    Kokkos::fence();
+    double t0 = now();
+    for (int k = 0; k < m; k++) Kokkos::parallel_reduce("lr", pol, r, Kokkos::Max<double, Kokkos::DefaultExecutionSpace::memory_space>(d));
+    double t1 = now();
+    Kokkos::fence();
+    double t2 = now();
+    std::printf("%-44s %5zu B: host %6.2f us/launch, with the device %6.2f us/launch\n",
+                "max reduce into a device View, light", sizeof(r), 1e6 * (t1 - t0) / m, 1e6 * (t2 - t0) / m);
+    double h = 0.0;
+    t0 = now();
+    for (int k = 0; k < m; k++) Kokkos::parallel_reduce("lh", pol, r, Kokkos::Max<double>(h));
+    t1 = now();
+    std::printf("%-44s %5zu B: %6.2f us/launch (each waits for its result)\n", "max reduce into a host scalar, light",
+                sizeof(r), 1e6 * (t1 - t0) / m);
+  }
+  Kokkos::finalize();
+  return 0;
+}
