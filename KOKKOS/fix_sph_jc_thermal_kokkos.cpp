@@ -15,20 +15,25 @@
                         new dt (one MPI_Allreduce); the state to the host
                         only on output steps
    Host copies of the state otherwise happen only where LAMMPS needs it on
-   the host: restart, setup, and with several ranks exchange and sorting.
+   the host: restart, setup, and with migrate host exchange and sorting.
 
-   Reneighbouring on one rank: a fix with an Atom grow callback makes LAMMPS
-   29Sep2021 exchange, sort and build ghosts on the host (x, v, f and the
-   whole state copied both ways, about 45 ns per atom and more than a step).
-   On one rank the /kk fix therefore holds the grow callback only between
-   runs (where delete_atoms, create_atoms, ... move the rows by index, on
-   the host).  At the setup of a run (setup_pre_exchange, before LAMMPS
-   reorders anything) it labels each row with its atom's tag and drops the
-   callback, so LAMMPS keeps the atoms on the device; after every
-   reneighbouring (post_neighbor, before any force) it moves the rows to
-   the atoms' new indices by tag in two kernels (atoms lost drop out, atoms
-   created get a new row); post_run takes the callback back.  With several
-   ranks the state migrates through the grow callback as usual.
+   Reneighbouring: a fix with an Atom grow callback makes LAMMPS 29Sep2021
+   exchange, sort and build ghosts on the host (x, v, f and the whole
+   state copied both ways, about 45 ns per atom and more than a step).
+   The /kk fix (keyword migrate device, the default) therefore holds the
+   grow callback only between runs (where delete_atoms, create_atoms,
+   write_restart's exchange ... move the rows by index, on the host).  At
+   the setup of a run (setup_pre_exchange, before LAMMPS reorders
+   anything) it labels each row with its atom's tag and drops the
+   callback, so LAMMPS keeps exchange, sorting and borders on the device;
+   after every reneighbouring (post_neighbor, before any force) the rows
+   follow their atoms by tag on the device (sphcut_migrate_kokkos.h): on
+   one rank two kernels; on several, the rows of atoms that left a rank
+   are packed on the device and sent to the other ranks (host staging, one
+   MPI_Allgatherv of those few rows), and each new local atom takes its old
+   row or a received one.  Atoms lost drop out, atoms created get a new
+   row; post_run takes the callback back.  migrate host (or atoms without
+   IDs) keeps the callback: LAMMPS moves the state on the host.
 ------------------------------------------------------------------------- */
 
 #include "fix_sph_jc_thermal_kokkos.h"
@@ -130,7 +135,7 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   grow_arrays(atom->nmax);
   for (int i = 0; i < atom->nlocal; i++) initialize_atom(i);
   k_state.modify_host();
-  remap = comm->nprocs == 1 && atom->tag_enable;
+  remap = migrate_device && atom->tag_enable;
   k_dtlim = DAT::tdual_double_1d("sph/jc-thermal:dtlim", SLOT0);
   k_dtlim.view_host()(STEP_WORK) = 0.0;
   k_dtlim.view_host()(STEP_DT) = 1.0e300;
@@ -173,6 +178,15 @@ template <class DeviceType> FixSPHJCThermalKokkos<DeviceType>::~FixSPHJCThermalK
   memoryKK->destroy_kokkos(k_state, state);
   memoryKK->destroy_kokkos(k_rowtag, rowtag);
   state = nullptr;    // the base destructor must not free it
+}
+
+// migrated_rows: the rows this rank took from other ranks in this run (0-d bigint; tests)
+template <class DeviceType> void *FixSPHJCThermalKokkos<DeviceType>::extract(const char *name, int &dim)
+{
+  dim = 0;
+  if (strcmp(name, "migrated_rows") == 0) return &mig.received;
+  if (strcmp(name, "migrate_device") == 0) return &remap;
+  return nullptr;
 }
 
 /* LAMMPS 29Sep2021 matches the state in a restart file to a fix by ID and style name: the /kk fix
@@ -469,6 +483,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
 {
+  report_migration();
   k_state.sync_host();    // the state readable after the run (library interface, tests)
   peratom_freq = 1;       // between runs the host copy is current: any consumer (write_dump, ...)
   if (remap && !grow_callback) {
@@ -533,6 +548,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::grow_on_devi
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_exchange()
 {
+  mig.clear();    // the counters of this run
   if (!remap || !grow_callback) return;
   // rows follow the atoms by index until now (grow callback): label them with the tags
   const int nlocal = atom->nlocal;
@@ -562,54 +578,31 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_neighbo
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::remap_state()
 {
   if (!remap || grow_callback) return;    // with the callback the rows follow by index
-  const int nlocal = atom->nlocal;
   if ((int) k_state.extent(0) < atom->nmax) grow_on_device(atom->nmax);
   atomKK->sync(execution_space, TAG_MASK);
-  k_state.template sync<DeviceType>();
-  k_rowtag.template sync<DeviceType>();
-  auto tag = atomKK->k_tag.view<DeviceType>();
-  auto rt = k_rowtag.template view<DeviceType>();
-  auto st = k_state.template view<DeviceType>();
-  const int nold = nrows;
+  nrows = mig.remap(k_state, k_rowtag, nrows, atomKK->k_tag.view<DeviceType>(), atom->nlocal, atom->nmax, world,
+                    temp0, error);
+}
 
-  // largest tag among the labelled rows and the atoms: size of the tag -> row table
-  tagint maxtag = 0;
-  Kokkos::parallel_reduce("sphcut:sph:remap_state",
-      sphcut::range<DeviceType>(0, nold > nlocal ? nold : nlocal),
-      KOKKOS_LAMBDA(const int i, tagint &m) {
-        if (i < nold && rt(i) > m) m = rt(i);
-        if (i < nlocal && tag(i) > m) m = tag(i);
-      },
-      Kokkos::Max<tagint>(maxtag));
-  if ((tagint) d_row_of_tag.extent(0) <= maxtag)
-    d_row_of_tag = typename AT::t_int_1d("sph/jc-thermal:row_of_tag", (size_t) (maxtag + 1 + maxtag / 8));
-  if ((int) d_scratch.extent(0) < nlocal || d_scratch.extent(1) != (size_t) NCOL)
-    d_scratch = typename AT::t_double_2d("sph/jc-thermal:scratch", (size_t) atom->nmax, (size_t) NCOL);
-  auto row_of = d_row_of_tag;
-  auto tmp = d_scratch;
-  const double t0 = temp0;
-
-  Kokkos::deep_copy(row_of, -1);
-  Kokkos::parallel_for("sphcut:sph:remap_state:2",
-      sphcut::range<DeviceType>(0, nold), KOKKOS_LAMBDA(const int r) {
-        if (rt(r) > 0) row_of(rt(r)) = r;
-      });
-  Kokkos::parallel_for("sphcut:sph:remap_state:3",
-      sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
-        const int r = row_of(tag(i));
-        if (r >= 0)
-          for (int k = 0; k < NCOL; k++) tmp(i, k) = st(r, k);
-        else
-          sphcut::initial_row(&tmp(i, 0), t0);    // an atom created since the last remap
-      });
-  Kokkos::parallel_for("sphcut:sph:remap_state:4",
-      sphcut::range<DeviceType>(0, nlocal), KOKKOS_LAMBDA(const int i) {
-        for (int k = 0; k < NCOL; k++) st(i, k) = tmp(i, k);
-        rt(i) = tag(i);
-      });
-  nrows = nlocal;
-  k_state.template modify<DeviceType>();
-  k_rowtag.template modify<DeviceType>();
+// several ranks: one line after the timing table's run (rows moved, time, max over ranks)
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::report_migration()
+{
+  if (comm->nprocs > 1 && remap && update->nsteps > 0) {
+    const bigint loc[3] = {mig.received, mig.sent, mig.created};
+    bigint sum[3];
+    MPI_Allreduce(loc, sum, 3, MPI_LMP_BIGINT, MPI_SUM, world);
+    // the time outside MPI is this rank's own work; the MPI calls include the wait for the
+    // slowest rank (load imbalance), not only the transfer
+    const double t[2] = {mig.seconds - mig.mpi_seconds, mig.mpi_seconds};
+    double tmax[2] = {0.0, 0.0};
+    MPI_Allreduce(t, tmax, 2, MPI_DOUBLE, MPI_MAX, world);
+    bigint calls = 0;
+    MPI_Allreduce(&mig.calls, &calls, 1, MPI_LMP_BIGINT, MPI_MAX, world);
+    if (comm->me == 0)
+      utils::logmesg(lmp, "sph/jc-thermal/kk migrate device: {} state rows moved between ranks ({} sent, {} new) "
+                     "in {} remaps: {:.4g} s on the device and host copies, {:.4g} s in MPI with the wait for the "
+                     "slowest rank (max over ranks)\n", sum[0], sum[1], sum[2], calls, tmax[0], tmax[1]);
+  }
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::set_arrays(int i)

@@ -22,6 +22,7 @@ FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
 #include "kokkos_type.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_material.h"
+#include "sphcut_migrate_kokkos.h"
 
 #include <utility>
 #include <vector>
@@ -105,21 +106,23 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void check_close_pairs() override;
   void report_runaway() override;
 
-  // one rank: the state follows its atoms by tag on the device (no host exchange, see .cpp)
+  // the state follows its atoms by tag on the device, on any number of ranks (no host
+  // exchange, see .cpp; keyword migrate device)
   void setup_pre_exchange() override;
   void setup_post_neighbor() override;
   void post_neighbor() override;
   void remap_state();
+  void report_migration();
+  void *extract(const char *, int &) override;
 
  protected:
   bigint rates_zeroed_step = -1;    // step whose initial_integrate zeroed the rates (pre_force skips its kernel)
   int rates_zeroed_nlocal = -1;
-  int remap;                   // 1: state rows follow the atoms by tag (one rank), 0: grow callback
+  int remap;                   // 1: state rows follow the atoms by tag during a run, 0: grow callback
   int nrows;                   // rows holding the state of the atoms labelled in k_rowtag
   DAT::tdual_tagint_1d k_rowtag;    // tag of the atom whose state each row holds
   tagint *rowtag;
-  typename AT::t_int_1d d_row_of_tag;
-  typename AT::t_double_2d d_scratch;
+  sphcut::RowMigration<DeviceType> mig;    // the remap's tables, buffers and counters
   void grow_on_device(int n);
   t_mat d_mat;                 // materials per type (device copy of the pair's)
   t_h d_h;                     // smoothing length per type

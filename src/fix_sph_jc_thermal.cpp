@@ -109,6 +109,10 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       if (strcmp(val, "yes") == 0) fence = 1;
       else if (strcmp(val, "no") == 0) fence = 0;
       else error->all(FLERR, "Fix sph/jc-thermal: fence must be yes or no, got {}", val);
+    } else if (kw == "migrate") {
+      if (strcmp(val, "device") == 0) migrate_device = 1;
+      else if (strcmp(val, "host") == 0) migrate_device = 0;
+      else error->all(FLERR, "Fix sph/jc-thermal: migrate must be device or host, got {}", val);
     } else if (kw == "peratom_every") {
       peratom_every = sphcut::parse_int(lmp, "Fix sph/jc-thermal", kw, val);
     } else {
