@@ -95,6 +95,10 @@ template <class DeviceType> struct SecondHalf {
     dst[0] += src[0];
     if (src[1] < dst[1]) dst[1] = src[1];
   }
+  // the plastic work accumulates on the device (the result's own element holds the sum so far):
+  // the host reads it only when it needs it (a dt step, an output), with no copy on other steps
+  Kokkos::View<double *, typename DeviceType::memory_space> result;
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const { r[0] += result(0); }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
     if (!(mask(i) & groupbit)) return;
@@ -257,6 +261,23 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vf
 {
   atomKK->sync(execution_space, datamask_read);
   FixSPHJCThermal::setup(vflag);    // timers, first stable dt (stable_dt below, on the device)
+  // the device continues the host's plastic work (restart, earlier runs)
+  k_dtlim.sync_host();
+  k_dtlim.view_host()(STEP_WORK) = plastic_work;
+  k_dtlim.modify_host();
+}
+
+// the plastic work summed on the device since the setup, into the host's plastic_work
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::fetch_work()
+{
+  k_dtlim.sync_host();
+  plastic_work = k_dtlim.view_host()(STEP_WORK);
+}
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::write_restart(FILE *fp)
+{
+  fetch_work();
+  FixSPHJCThermal::write_restart(fp);
 }
 
 template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::stable_dt()
@@ -462,6 +483,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.tmax = tmax;
   // into the device view (no fence): end_of_step reads it with the styles' slots
   k_dtlim.template sync<DeviceType>();
+  k.result = k_dtlim.template view<DeviceType>();
   Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k,
                           Kokkos::subview(k_dtlim.template view<DeviceType>(), std::make_pair(0, (int) SLOT0)));
   k_dtlim.template modify<DeviceType>();
@@ -472,11 +494,13 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step()
 {
   sphcut::FencedTimer timer(cpu_time);
-  // the step's sums and the styles' slots (written by their kernels since the last copy; the heat
-  // fix's after this fix's final_integrate) to the host: the one host round trip of a step
-  k_dtlim.sync_host();
-  plastic_work += k_dtlim.view_host()(STEP_WORK);
-  if (cfl > 0.0) apply_dt(finish_dt(std::min(k_dtlim.view_host()(STEP_DT), device_limits())));
+  // on a dt step (every dtevery-th) the Courant limit and the styles' slots (written by their
+  // kernels this step; the heat fix's after this fix's final_integrate) to the host: the step's one
+  // host round trip.  Between dt steps none: the plastic work stays on the device (fetch_work)
+  if (cfl > 0.0 && dt_step()) {
+    fetch_work();
+    apply_dt(finish_dt(std::min(k_dtlim.view_host()(STEP_DT), device_limits())));
+  }
   // dumps and f_ID outputs read the host array on output steps and every peratom_freq steps
   if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_state.sync_host();
 }
@@ -485,6 +509,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
 {
   report_migration();
   k_state.sync_host();    // the state readable after the run (library interface, tests)
+  fetch_work();
   peratom_freq = 1;       // between runs the host copy is current: any consumer (write_dump, ...)
   if (remap && !grow_callback) {
     // between runs the rows follow by index again.  Atom::add_callback only registers the fix
@@ -504,6 +529,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
 
 template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::compute_vector(int n)
 {
+  if (n == 3) fetch_work();
   if (n > 0) {
     atomKK->sync(Host, V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
     k_state.sync_host();

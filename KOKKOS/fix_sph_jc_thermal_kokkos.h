@@ -79,6 +79,8 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void end_of_step() override;
   void post_run() override;
   double compute_vector(int) override;
+  void write_restart(FILE *) override;
+  void fetch_work();    // the plastic work summed on the device into plastic_work
 
   void grow_arrays(int) override;
   void set_arrays(int) override;

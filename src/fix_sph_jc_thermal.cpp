@@ -115,6 +115,8 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
       else error->all(FLERR, "Fix sph/jc-thermal: migrate must be device or host, got {}", val);
     } else if (kw == "peratom_every") {
       peratom_every = sphcut::parse_int(lmp, "Fix sph/jc-thermal", kw, val);
+    } else if (kw == "dtevery") {
+      dtevery = sphcut::parse_int(lmp, "Fix sph/jc-thermal", kw, val);
     } else {
       error->all(FLERR, "Fix sph/jc-thermal: unknown keyword {}", kw);
     }
@@ -126,6 +128,8 @@ FixSPHJCThermal::FixSPHJCThermal(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "Fix sph/jc-thermal: tool and clamp must be different groups");
   if (cfl == 0.0 && (dtmax > 0.0 || dtmin > 0.0))
     error->all(FLERR, "Fix sph/jc-thermal: dtmax and dtmin need the adaptive time step (keyword cfl)");
+  if (cfl == 0.0 && dtevery > 1)
+    error->all(FLERR, "Fix sph/jc-thermal: dtevery {} needs the adaptive time step (keyword cfl)", dtevery);
   if (dtmin > 0.0 && dtmax > 0.0 && dtmin > dtmax)
     error->all(FLERR, "Fix sph/jc-thermal: dtmin {} is larger than dtmax {}", dtmin, dtmax);
 
@@ -556,10 +560,17 @@ void FixSPHJCThermal::apply_dt(double dtnew)
   for (int i = 0; i < modify->nfix; i++) modify->fix[i]->reset_dt();
 }
 
+// the adaptive dt is recomputed at the end of every dtevery-th step (and at every setup): between,
+// the step stays as it was, and so do the runaway checks folded into its computation
+bool FixSPHJCThermal::dt_step() const
+{
+  return dtevery == 1 || update->ntimestep % dtevery == 0;
+}
+
 void FixSPHJCThermal::end_of_step()
 {
   sphcut::ScopedTimer timer(cpu_time);
-  apply_dt(stable_dt());
+  if (dt_step()) apply_dt(stable_dt());
 }
 
 // the first step of a run already uses the stable time step

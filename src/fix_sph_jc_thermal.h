@@ -82,6 +82,8 @@ class FixSPHJCThermal : public Fix,
   int force_state_valid;      // force-state columns hold the last predictor (continued run)
   double cfl;                 // > 0: adaptive time step with this Courant number
   int peratom_every = 0;      // > 0: the per-atom array is valid every this many steps (keyword)
+  int dtevery = 1;            // the adaptive dt is recomputed every this many steps (keyword dtevery)
+  bool dt_step() const;       // whether this step's end_of_step recomputes the adaptive dt
   int fence = -1;             // /kk: 1 per-style timers wait for the device (keyword fence), 0 not, -1 default
   int migrate_device = 1;     // /kk: 1 the state rows follow their atoms on the device (keyword migrate), 0 host
   // remark in the timing table's title (the /kk fix: what its times mean)

@@ -692,8 +692,10 @@ std::string num(double x)
   return b;
 }
 
-// rows: step, the dt of the next step, the least density of the heat fix's group after the step
-std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &args, const std::string &heatargs)
+// rows: step, the dt of the next step, the least density of the heat fix's group after the step;
+// sphargs: more keywords of fix sph/jc-thermal
+std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &args, const std::string &heatargs,
+                                              const std::string &sphargs = "", const std::string &vy = "-1")
 {
   int me;
   MPI_Comm_rank(MPI_COMM_WORLD, &me);
@@ -723,9 +725,9 @@ std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &ar
           "create_atoms 1 region blk", "region topr block INF INF " + num(y0 + 1.9e-3) + " INF INF INF units box",
           "group top region topr", "mass 1 7.8e-3", "pair_style sph/jc-thermal",
           "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 2e7",
-          "fix sph all sph/jc-thermal cfl 0.3 peratom_every 1", "fix heat all heat/fmfs " + heatargs,
+          "fix sph all sph/jc-thermal cfl 0.3 peratom_every 1 " + sphargs, "fix heat all heat/fmfs " + heatargs,
           "fix tool all contact/tri-penalty stl dtplate.stl pfac 10 dfac 0.1 dtfac 0.5",
-          "velocity all set 0 -1 0 units box", "timestep 1e-8", "compute rho all reduce min f_sph[1]",
+          "velocity all set 0 " + vy + " 0 units box", "timestep 1e-8", "compute rho all reduce min f_sph[1]",
           "variable dt equal f_sph[1]", "variable rho equal c_rho",
           "fix out all print 1 \"$(step) $(v_dt:%.17g) $(v_rho:%.17g)\" file dtlim.dat screen no", "run 1500"});
   MPI_Barrier(MPI_COMM_WORLD);
@@ -769,4 +771,43 @@ TEST(KokkosThermal, EachStyleReportsItsDtLimit)
     }
     EXPECT_LT(d, 1e-10) << c.first;    // the same steps
   }
+}
+
+/* ----------------------------------------------------------------------
+   dtevery N: the adaptive dt is recomputed at the end of every N-th step only (on a GPU the
+   step's host round trip then happens every N steps).  The scene of EachStyleReportsItsDtLimit
+   at 100 m/s with dtevery 5: the printed dt (the next step's) changes only at multiples of 5, it
+   does change (the densities, and with them the thermal limit, change every step), CPU and /kk take the same steps, and with
+   dtevery 1 it changes at other steps too (so the test can fail).
+------------------------------------------------------------------------- */
+
+TEST(KokkosThermal, DtEveryHoldsTheStep)
+{
+  auto changes = [](const std::vector<std::vector<double>> &rows, int &off_grid) {
+    int n = 0;
+    off_grid = 0;
+    for (size_t k = 1; k < rows.size(); k++)
+      if (rows[k][1] != rows[k - 1][1]) {
+        n++;
+        if ((long) rows[k][0] % 5 != 0) off_grid++;
+      }
+    return n;
+  };
+  const std::string heat = "";
+  // at 100 m/s the block's densities change every step, and so does the thermal limit
+  const auto cpu = dt_limit_run({}, heat, "dtevery 5", "-100");
+  const auto kk = dt_limit_run(KK_FULL, heat, "dtevery 5", "-100");
+  const auto every1 = dt_limit_run({}, heat, "", "-100");
+  int off_cpu, off_kk, off_1;
+  const int n_cpu = changes(cpu, off_cpu), n_kk = changes(kk, off_kk), n_1 = changes(every1, off_1);
+  std::printf("[ dtevery  ] dtevery 5: %d changes of dt (%d off the 5-step grid), /kk %d (%d); dtevery 1: %d (%d off "
+              "the grid)\n", n_cpu, off_cpu, n_kk, off_kk, n_1, off_1);
+  ASSERT_EQ(cpu.size(), kk.size());
+  EXPECT_GT(n_cpu, 10);
+  EXPECT_EQ(off_cpu, 0);
+  EXPECT_EQ(off_kk, 0);
+  EXPECT_GT(off_1, 10);
+  double dmax = 0.0;
+  for (size_t k = 0; k < cpu.size(); k++) dmax = std::max(dmax, std::fabs(cpu[k][1] / kk[k][1] - 1.0));
+  EXPECT_LT(dmax, 1e-10);
 }

@@ -194,6 +194,8 @@ TEST(BadInput, PairAndFix)
                                "pmin must be a negative pressure or none, got -4GPa"));
   EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin", "keyword pmin needs a value"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal dtmax 1e-9", "dtmax and dtmin need the adaptive time step"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal dtevery 10", "dtevery 10 needs the adaptive time step"));
+  EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 dtevery 0", "dtevery must be >= 1, got 0"));
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1.3e-3");
   EXPECT_TRUE(l.error_contains("run 0", "requires fix sph/jc-thermal"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal temp -5", "temp must be >= 0, got -5"));
