@@ -30,8 +30,9 @@
 #            dissipation); wall times of concurrent runs are not timings
 #   launch   the fixed cost of a kernel launch (bench/gpu/launch/launch_overhead.cpp): host and device
 #            time per empty launch, small and 3 KB functors, constant memory or kernel argument
-#   stepcost the 2D cut in contact, PROF_STEPS steps at 11, 21, 41 and 81 across: us/step against the
-#            particle count (the fixed cost per step), LAMMPS' timer table and sphcut's per style
+#   stepcost the 2D cut in contact, PROF_STEPS steps at STEPCOST_NY (11, 21, 41 and 81) across: us/step
+#            against the particle count (the fixed cost per step), LAMMPS' timer table and sphcut's per
+#            style; STEPCOST_ARGS more lmp arguments (e.g. "-var dtevery 1"), STEPCOST_TAG a log suffix
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -463,9 +464,9 @@ stepcost() {
   cd $W
   local steps=${PROF_STEPS:-2000} ny
   for ny in ${STEPCOST_NY:-11 21 41 81}; do
-    prof_run sc$ny "$EX2" -var ny $ny -var steps $steps $NEV
-    sed -n '/^Section |/,/^Other/p' log.sc$ny | sed 's/^/    /' >> "$SUM"
-    grep -A14 "sphcut timing" log.sc$ny | sed 's/^/    /' >> "$SUM"
+    prof_run sc$ny${STEPCOST_TAG:-} "$EX2" -var ny $ny -var steps $steps $NEV ${STEPCOST_ARGS:-}
+    sed -n '/^Section |/,/^Other/p' log.sc$ny${STEPCOST_TAG:-} | sed 's/^/    /' >> "$SUM"
+    grep -A14 "sphcut timing" log.sc$ny${STEPCOST_TAG:-} | sed 's/^/    /' >> "$SUM"
   done
   cd "$ROOT"
 }
