@@ -284,7 +284,9 @@ void FixSPHJCThermal::setup_state()
     if (!(mask[i] & groupbit)) continue;
     double *s = state[i];
     const Material &mt = mat[type[i]];
-    if (s[RHO] <= 0.0) s[RHO] = mt.rho0;
+    // an atom created since the last run (initial_row: density -1) has no force state yet
+    const bool created = s[RHO] <= 0.0;
+    if (created) s[RHO] = mt.rho0;
     if (s[TEMP] < 0.0) {
       s[TEMP] = mt.Tref;
       ntref[type[i]]++;
@@ -292,7 +294,7 @@ void FixSPHJCThermal::setup_state()
     s[ROLE] = role_of(mask[i]);
     s[PRESS] = sphcut::eos_pressure(mt, s[RHO], s[TEMP]);
     s[VM] = sphcut::von_mises(&s[SXX]);
-    int fresh = !force_state_valid;
+    int fresh = !force_state_valid || created;
     for (int d = 0; d < 3; d++)
       if (v[i][d] != s[VEND + d]) fresh = 1;
     if (fresh) {

@@ -78,6 +78,28 @@ TEST(Patch, RigidTranslation2D)
 
 // rigid rotation of a pre-stressed block: no strain rate (drho = 0, symmetric part of L = 0);
 // the stress rate is exactly the Jaumann rotation W s - s W at every particle, surface included
+// an atom created at rest between runs, after the first run made the force state valid: its
+// force state (density, stress, temperature of the force evaluation) is set at the next setup
+// like that of the others; before, an atom at rest kept the zero row (its velocity equalled the
+// row's end-of-step velocity 0) and the setup's forces were not a number (density 0)
+TEST(Patch, AtomCreatedAtRestBetweenRuns)
+{
+  Lammps l;
+  block2d(l, 12, 8, 1.0e-3);
+  l.cmds({"velocity all set 3.0 0.0 0.0 units box", "run 20"});
+  // one spacing beside the block's last column (x 5.5 mm), within the kernel support
+  l.cmds({"create_atoms 1 single 6.5e-3 0.5e-3 0.0 units box", "run 5"});
+  auto *fix = state_fix(l);
+  const int n = l.lmp->atom->nlocal;
+  int bad = 0;
+  for (int i = 0; i < n; i++) {
+    for (int d = 0; d < 2; d++)
+      if (!std::isfinite(l.lmp->atom->v[i][d]) || !std::isfinite(l.lmp->atom->f[i][d])) bad++;
+    if (!std::isfinite(fix->state[i][F::RHO]) || fix->state[i][F::RHO] < 7000.0) bad++;
+  }
+  EXPECT_EQ(bad, 0);
+}
+
 TEST(Patch, RigidRotationJaumannOnly2D)
 {
   Lammps l;
