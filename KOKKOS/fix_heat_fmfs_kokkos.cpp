@@ -69,15 +69,10 @@ template <class DeviceType> struct HeatAfterCorrector {
   typename AT::t_double_1d slot;
   int gb, nd, use_rmass, want_lim, every;
   double F;
-  KOKKOS_INLINE_FUNCTION void init(value_type r) const
-  {
-    r[0] = 0.0;
-    r[1] = 1.0e300;
-  }
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const { sphcut::sum_min_init(r); }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
   {
-    d[0] += s[0];
-    if (s[1] < d[1]) d[1] = s[1];
+    sphcut::sum_min_join(d, s);
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {

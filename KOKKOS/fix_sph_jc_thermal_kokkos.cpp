@@ -85,15 +85,10 @@ template <class DeviceType> struct SecondHalf {
   int groupbit, toolbit, clampbit, use_rmass, want_dt;
   double dt, dtf, cfl, vmax, tmax;
 
-  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const { sphcut::sum_min_init(r); }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
   {
-    r[0] = 0.0;
-    r[1] = 1.0e300;
-  }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type dst, const volatile value_type src) const
-  {
-    dst[0] += src[0];
-    if (src[1] < dst[1]) dst[1] = src[1];
+    sphcut::sum_min_join(d, s);
   }
   // the plastic work accumulates on the device (the result's own element holds the sum so far):
   // the host reads it only when it needs it (a dt step, an output), with no copy on other steps

@@ -78,6 +78,19 @@ Kokkos::View<T *, typename DeviceType::memory_space> to_device(const T *host, in
   return d;
 }
 
+// the two-value reduction of the integrators' second halves (value_type double[2]): a sum in r[0]
+// (work, heat) and a minimum in r[1] (a time-step limit)
+KOKKOS_INLINE_FUNCTION void sum_min_init(double *r)
+{
+  r[0] = 0.0;
+  r[1] = 1.0e300;
+}
+KOKKOS_INLINE_FUNCTION void sum_min_join(volatile double *dst, const volatile double *src)
+{
+  dst[0] += src[0];
+  if (src[1] < dst[1]) dst[1] = src[1];
+}
+
 // the range policy of every sphcut kernel: HintLightWeight passes the functor (its Views and
 // constants, often more than 512 bytes) as a kernel argument.  Without the hint Kokkos 3.4 puts
 // functors over 512 bytes into constant memory, and each such launch waits for the previous one
