@@ -321,6 +321,10 @@ peer() {
   local ny=${PEER_NY:-41} bin="$ROOT/.carry/peer/mfree_gpu"
   [ -x "$bin" ] || { say "peer: no $bin (copy ../shared/peer/ul_cut_gpu/bin/mfree_gpu into .carry/peer/)"; return 1; }
   mkdir -p $W/peer$ny && cd $W/peer$ny
+  # sphcut's kernels are built for sm_80: the driver compiles their PTX for the GPU at the first
+  # run after a build (about 20 s, cached): a short run first, so that no timed run pays it
+  mkdir -p warm && (cd warm && timeout 120 "$BIN" $GPUK -in "$EX2" -var ny 11 -var steps 20 -var dumpevery 0 \
+    -log none > screen 2>&1) || say "peer: the warm-up run failed"
   local t0; t0=$(date +%s.%N)
   LD_LIBRARY_PATH=/usr/local/nvidia/lib64:${LD_LIBRARY_PATH:-} timeout 400 "$bin" -r 0 -c 7 -f 0.00028 \
     -v 0.000530833299 -n $ny -q 0.01 > screen 2>&1 || tail -3 screen
