@@ -486,21 +486,7 @@ void FixContactTriPenalty::init()
     if (mu_itvar < 0 || !input->variable->internalstyle(mu_itvar))
       error->all(FLERR, "Fix contact/tri-penalty: tvar {} must be an internal-style variable", mu_tvar);
   }
-  if (split_auto) {
-    // split by thermal effusivity sqrt(k rho cp) of workpiece and tool (seed 000 sec. 4)
-    int ttool = 0, twork = 0;
-    for (int i = 0; i < atom->nlocal; i++) {
-      if (atom->mask[i] & toolbit) ttool = atom->type[i];
-      else if (atom->mask[i] & groupbit) twork = atom->type[i];
-    }
-    int g[2], l[2] = {ttool, twork};
-    MPI_Allreduce(l, g, 2, MPI_INT, MPI_MAX, world);
-    if (!g[0] || !g[1]) error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool and workpiece particles");
-    const Material &mt = model->materials()[g[0]], &mw = model->materials()[g[1]];
-    const double et = sqrt(mt.kappa * mt.rho0 * mt.cp), ew = sqrt(mw.kappa * mw.rho0 * mw.cp);
-    if (et + ew <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: split auto needs k and cp of tool and workpiece");
-    split = ew / (ew + et);
-  }
+  if (split_auto) split = effusivity_split();
   // the bins: elements within the largest query radius, in the tool frame
   const double rsearch = sphcut::support_radius(contact_radius_max());
   sphcut::tri_bin_build(elem, nvert, rsearch, bins);
@@ -512,32 +498,54 @@ void FixContactTriPenalty::init()
                "contact search radius 2h = {}", stl_scale, extent, rsearch);
   if (toolbit) sphcut::request_full_list(neighbor, this, instance_me, true, false);
   update_tool_velocity();
+  dt_crit = initial_spring_limit();
+  if (!vreg_set) {
+    const double s = sqrt(vtool[0] * vtool[0] + vtool[1] * vtool[1] + vtool[2] * vtool[2]);
+    vreg = 0.01 * s;    // 1 % of the tool speed (fixed tool: 0, Coulomb above the floor of post_force)
+  }
+}
+
+// the share of the friction heat that goes into the workpiece by thermal effusivity sqrt(k rho cp)
+// of workpiece and tool (seed 000 sec. 4; keyword split auto)
+double FixContactTriPenalty::effusivity_split() const
+{
+  int ttool = 0, twork = 0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (atom->mask[i] & toolbit) ttool = atom->type[i];
+    else if (atom->mask[i] & groupbit) twork = atom->type[i];
+  }
+  int g[2], l[2] = {ttool, twork};
+  MPI_Allreduce(l, g, 2, MPI_INT, MPI_MAX, world);
+  if (!g[0] || !g[1]) error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool and workpiece particles");
+  const Material &mt = model->materials()[g[0]], &mw = model->materials()[g[1]];
+  const double et = sqrt(mt.kappa * mt.rho0 * mt.cp), ew = sqrt(mw.kappa * mw.rho0 * mw.cp);
+  if (et + ew <= 0.0) error->all(FLERR, "Fix contact/tri-penalty: split auto needs k and cp of tool and workpiece");
+  return ew / (ew + et);
+}
+
+double FixContactTriPenalty::initial_spring_limit() const
+{
   // the spring's time step limit before the first force evaluation (fix sph/jc-thermal sets
   // the first dt of a run in its setup, before this fix's): the particles in or about to be in
   // contact, by the test post_force applies (sphcut::near_contact), so that a run continued
   // from a restart file takes the step the unsplit run took (a wider band here, all particles
   // within 2h of the tool, gave the first step of a run continued while the tool approached
   // the workpiece the spring's limit: the time and the first contact shifted)
-  dt_crit = 1.0e300;
-  {
-    const sphcut::TriBinView view = bins.view();
-    for (int i = 0; i < atom->nlocal; i++) {
-      if (!(atom->mask[i] & groupbit) || (atom->mask[i] & toolbit) || fix->role_of(atom->mask[i]) == FixSPHJCThermal::TOOL) continue;
-      const int it = atom->type[i];
-      const double h = model->smoothing_length(it);
-      const double *xi = atom->x[i];
-      const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
-      double d, n[3], q[3];
-      int region;
-      if (sphcut::tool_surface(view, xt, h, d, n, q, region) < 0) continue;    // no facet within 2h
-      if (sphcut::near_contact(d, h, sfac, atom->v[i], vtool, domain->dimension, update->dt))
-        dt_crit = std::min(dt_crit, spring_dt_crit(i));
-    }
+  double lim = 1.0e300;
+  const sphcut::TriBinView view = bins.view();
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit) || (atom->mask[i] & toolbit) || fix->role_of(atom->mask[i]) == FixSPHJCThermal::TOOL) continue;
+    const int it = atom->type[i];
+    const double h = model->smoothing_length(it);
+    const double *xi = atom->x[i];
+    const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
+    double d, n[3], q[3];
+    int region;
+    if (sphcut::tool_surface(view, xt, h, d, n, q, region) < 0) continue;    // no facet within 2h
+    if (sphcut::near_contact(d, h, sfac, atom->v[i], vtool, domain->dimension, update->dt))
+      lim = std::min(lim, spring_dt_crit(i));
   }
-  if (!vreg_set) {
-    const double s = sqrt(vtool[0] * vtool[0] + vtool[1] * vtool[1] + vtool[2] * vtool[2]);
-    vreg = 0.01 * s;    // 1 % of the tool speed (fixed tool: 0, Coulomb above the floor of post_force)
-  }
+  return lim;
 }
 
 // stability limit of the penalty spring of local particle i (sphcut_contact.h contact_spring_dt)

@@ -155,6 +155,8 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   void finish_step(double w_old, double d_old, double q_lumped);
   void warn_inside();
   double spring_dt_crit(int i) const;
+  double effusivity_split() const;        // split auto: the workpiece's share of the friction heat
+  double initial_spring_limit() const;    // the spring's dt limit before the first force evaluation
 
   // tool fields per facet (tool_fields N, wear usui K alpha): loads, temperature and Usui wear,
   // averaged over N steps (sphcut_tool_fields.h; the per-contact arithmetic in sphcut_contact.h)
