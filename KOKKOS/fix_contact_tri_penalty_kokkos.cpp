@@ -654,12 +654,12 @@ void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int 
 template <class DeviceType>
 int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
-  return sphcut::pack_columns_host(k_qtw, 1, n, list_, buf);
+  return stage_qtw.pack(k_qtw, 0, 1, n, list_, buf);
 }
 
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  sphcut::unpack_columns_host(k_qtw, 1, n, first, buf);
+  stage_qtw.unpack(k_qtw, 0, 1, n, first, buf);
 }
 
 namespace LAMMPS_NS {

@@ -504,12 +504,12 @@ void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int fi
 template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
-  return sphcut::pack_columns_host(k_fwts, NW, n, list_, buf);
+  return stage_fwts.pack(k_fwts, 0, NW, n, list_, buf);
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  sphcut::unpack_columns_host(k_fwts, NW, n, first, buf);
+  stage_fwts.unpack(k_fwts, 0, NW, n, first, buf);
 }
 
 /* ----------------------------------------------------------------------

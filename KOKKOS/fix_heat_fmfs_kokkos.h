@@ -66,6 +66,7 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   Kokkos::View<sphcut::ThermalPair *, typename DeviceType::memory_space> d_tp;
   Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;
   Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;
+  sphcut::StagedColumns<DeviceType> stage_fwts;    // k_fwts's rows on the classic (host) forward communication
   DAT::tdual_double_2d k_fwts;    // scheme flag and FMFS weights, local + ghost
   HeatFMFSViews<DeviceType> heat_views();    // what the heat kernels read
   template <int DIM> void conduction_kk();

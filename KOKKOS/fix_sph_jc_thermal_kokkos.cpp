@@ -669,17 +669,16 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::unpack_resta
 }
 
 template <class DeviceType>
-int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm(int n, int *list, double *buf, int pbc_flag, int *pbc)
+int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  k_state.sync_host();
-  return FixSPHJCThermal::pack_forward_comm(n, list, buf, pbc_flag, pbc);
+  // the force state of the listed rows, packed on the device (FixSPHJCThermal::pack_forward_comm's
+  // columns and order): the state stays on the device
+  return stage_state.pack(k_state, FORWARD_FIRST, NFORWARD, n, list, buf);
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  k_state.sync_host();
-  FixSPHJCThermal::unpack_forward_comm(n, first, buf);
-  k_state.modify_host();
+  stage_state.unpack(k_state, FORWARD_FIRST, NFORWARD, n, first, buf);
 }
 
 namespace LAMMPS_NS {

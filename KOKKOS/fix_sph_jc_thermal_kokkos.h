@@ -118,6 +118,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void *extract(const char *, int &) override;
 
  protected:
+  sphcut::StagedColumns<DeviceType> stage_state;    // the force state's rows on the classic forward communication
   bigint rates_zeroed_step = -1;    // step whose initial_integrate zeroed the rates (pre_force skips its kernel)
   int rates_zeroed_nlocal = -1;
   int remap;                   // 1: state rows follow the atoms by tag during a run, 0: grow callback
