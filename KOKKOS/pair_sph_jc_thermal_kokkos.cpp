@@ -437,25 +437,16 @@ void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
       });
 }
 
+// the classic (host) forward communication of L: only the listed rows travel (sphcut::StagedColumns)
 template <class DeviceType>
 int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  k_lgrad.sync_host();
-  auto h = k_lgrad.view_host();
-  int m = 0;
-  for (int ii = 0; ii < n; ii++)
-    for (int k = 0; k < 9; k++) buf[m++] = h(list[ii], k);
-  return m;
+  return stage_lgrad.pack(k_lgrad, 0, 9, n, list, buf);
 }
 
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  k_lgrad.sync_host();
-  auto h = k_lgrad.view_host();
-  int m = 0;
-  for (int i = first; i < first + n; i++)
-    for (int k = 0; k < 9; k++) h(i, k) = buf[m++];
-  k_lgrad.modify_host();
+  stage_lgrad.unpack(k_lgrad, 0, 9, n, first, buf);
 }
 
 #ifdef SPHCUT_KK_API_2026

@@ -87,6 +87,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
   typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost
   DAT::tdual_double_2d k_acc;                   // neighbour sums (half lists only)
+  sphcut::StagedColumns<DeviceType> stage_lgrad;    // k_lgrad's rows on the classic forward communication
   DAT::tdual_double_2d k_lgrad;                 // hourglass control: L, local + ghost (full lists only)
   void upload_tables();
 };
