@@ -395,7 +395,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, datamask_modify);
   rates_zeroed_step = update->ntimestep;
-  rates_zeroed_nlocal = atom->nlocal;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -409,8 +408,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   auto st = k_state.template view<DeviceType>();
   // zeroed by initial_integrate of this step unless the atoms were rebuilt since (reneighbouring:
   // exchange, sorting, created atoms) or this is the setup
-  const bool zeroed = !update->setupflag && rates_zeroed_step == update->ntimestep && neighbor->ago != 0 &&
-      rates_zeroed_nlocal == atom->nlocal;
+  const bool zeroed = !update->setupflag && rates_zeroed_step == update->ntimestep && neighbor->ago != 0;
   if (!zeroed) {
     Kokkos::parallel_for("sphcut:sph:pre_force",
         sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });

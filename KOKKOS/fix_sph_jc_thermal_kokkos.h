@@ -120,7 +120,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
  protected:
   sphcut::StagedColumns<DeviceType> stage_state;    // the force state's rows on the classic forward communication
   bigint rates_zeroed_step = -1;    // step whose initial_integrate zeroed the rates (pre_force skips its kernel)
-  int rates_zeroed_nlocal = -1;
   int remap;                   // 1: state rows follow the atoms by tag during a run, 0: grow callback
   int nrows;                   // rows holding the state of the atoms labelled in k_rowtag
   DAT::tdual_tagint_1d k_rowtag;    // tag of the atom whose state each row holds
