@@ -10,10 +10,11 @@
      final_integrate    one reduction: corrector, radial return, plastic
                         heat, and the sums the host needs (plastic work,
                         this rank's Courant limit) into a device view
-     end_of_step        that view with the attached styles' dt slots to
-                        the host (the one host round trip of a step), the
-                        new dt (one MPI_Allreduce); the state to the host
-                        only on output steps
+     end_of_step        every dtevery-th step: that view with the attached
+                        styles' dt slots to the host (the one host round
+                        trip), the new dt (one MPI_Allreduce); the plastic
+                        work stays summed on the device between; the state
+                        to the host only on output steps
    Host copies of the state otherwise happen only where LAMMPS needs it on
    the host: restart, setup, and with migrate host exchange and sorting.
 
