@@ -10,16 +10,25 @@
        particle (its temperature rate) and, for the tool's share, the heat
        per kernel weight of the tool particles around it (ContactKernel::Sink)
      forward communication of that heat per weight to the ghosts
-     kernel 2 (tool particles): each gathers the heat of the contact
-       particles around it, kernel weighted (the CPU fix scatters the same
-       sums to the tool particles)
+     kernel 2 (the tool particles next to non-tool ones): each gathers the
+       heat of the contact particles around it, kernel weighted (the CPU fix
+       scatters the same sums to the tool particles)
+   Both walk the cross neighbours, not the whole neighbour list: a scan at
+   each reneighbouring (cross_build) keeps, in the list's order, a contact
+   candidate's tool neighbours and a tool particle's non-tool neighbours,
+   and the tool particles that have some (the gather's range).  Per step
+   the fix launches these two kernels (and, on several ranks, the forward
+   communication's); the gather cannot wait for fix heat/fmfs's evaluation
+   steps: the temperature rate it adds is integrated every step.
    The host gets the sums of kernel 1 (tool force, work, dissipation,
    friction power, contact count, deepest penetration, heat booked, the
    spring's dt limit) and updates the tool's position and velocity.
    Kernel 1 also leaves a record of each contact (sphcut::contact_record,
    the feature, the penetration): the decomposition by tool feature
    (vector 16-47) and the deepest penetration (12) are formed from them by
-   a third kernel only when a consumer reads them (record_sums()).
+   a third kernel only when a consumer reads them (record_sums()).  The
+   accumulators that fetch() has read are zeroed by kernel 1 of the next
+   step (no fill kernel on output steps).
 ------------------------------------------------------------------------- */
 
 #include "fix_contact_tri_penalty_kokkos.h"
@@ -44,6 +53,7 @@
 #include "sphcut_thermal.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -72,6 +82,14 @@ enum { A_QWORK = 0, A_QLOST, A_QTOOL, A_QSRC, A_QLUMP, A_TWORK, A_DISS, NACCUM }
 // that fetch() brings the number of contacts with the sums
 enum { C_NREC = NRED + NACCUM, NSUMS = C_NREC + 2 };
 
+// a particle the contact acts on: in the fix's group, not a tool particle (tool_particles
+// group, or the role TOOL of fix sph/jc-thermal)
+KOKKOS_INLINE_FUNCTION bool contact_candidate(int m, int groupbit, int toolbit, int fixtoolbit, int fixclampbit)
+{
+  return (m & groupbit) && !(m & toolbit) &&
+      sphcut::role_from_mask(m, fixtoolbit, fixclampbit) != sphcut::StateLayout::TOOL;
+}
+
 template <class DeviceType> struct ContactKernel {
   typedef DeviceType device_type;
   typedef double value_type[];
@@ -88,8 +106,6 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_double_2d state;
   typename AT::t_double_2d qtw;       // tool heat per kernel weight (one column)
   typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
-  typename AT::t_neighbors_2d neighbors;
-  typename AT::t_int_1d_const numneigh;
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
   int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, nmu, ntp, kernel;
@@ -103,6 +119,8 @@ template <class DeviceType> struct ContactKernel {
   Kokkos::View<double *[FK::NREC], mem> rec;
   int cur;
   Kokkos::View<double *, mem> facc;    // tool fields per facet: the running interval's sums
+  Kokkos::View<const int *, mem> xoff, xnb;    // the cross neighbours (cross_build): a candidate's tool neighbours
+  int reset;                           // zero the accumulators first (fetch() has read them)
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -118,6 +136,8 @@ template <class DeviceType> struct ContactKernel {
   // and the dt limit stay on the device; the host reads them when it needs them
   KOKKOS_INLINE_FUNCTION void final(value_type r) const
   {
+    if (reset)
+      for (int a = 0; a < NACCUM; a++) sums(NRED + a) = 0.0;
     sums(NRED + A_QWORK) += r[R_QWORK];
     sums(NRED + A_QLOST) += r[R_QLOST];
     sums(NRED + A_QTOOL) += r[R_QTOOL];
@@ -182,12 +202,13 @@ template <class DeviceType> struct ContactKernel {
       r[R_QSRC] += q * acc;
     }
     // the tool particles within the kernel support share q by kernel weight: the heat per
-    // weight here, gathered by them in tool_heat_gather
+    // weight here, gathered by them in tool_heat_gather.  The tool neighbours of the list, in
+    // its order (the cross neighbours: the same sum as over the whole list)
     KOKKOS_INLINE_FUNCTION bool heat_tool(double q) const
     {
       double wsum = 0.0;
-      for (int jj = 0; jj < k.numneigh(i); jj++) {
-        const int j = k.neighbors(i, jj) & NEIGHMASK;
+      for (int c = k.xoff(i); c < k.xoff(i + 1); c++) {
+        const int j = k.xnb(c);
         if (!(k.mask(j) & k.toolbit)) continue;
         double r2 = 0.0;
         for (int d = 0; d < 3; d++) r2 += (k.x(i, d) - k.x(j, d)) * (k.x(i, d) - k.x(j, d));
@@ -202,11 +223,51 @@ template <class DeviceType> struct ContactKernel {
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
     qtw(i, 0) = 0.0;
-    const int m = mask(i);
-    const bool candidate =
-        (m & groupbit) && !(m & toolbit) && sphcut::role_from_mask(m, fixtoolbit, fixclampbit) != SL::TOOL;
+    const bool candidate = contact_candidate(mask(i), groupbit, toolbit, fixtoolbit, fixclampbit);
     Sink sink{*this, i, candidate ? type(i) : 0, r};
     sphcut::contact_step(step, candidate, sink);
+  }
+};
+
+// the cross neighbours of each local particle, in the order of its neighbour list: a contact
+// candidate's tool neighbours, a tool particle's other neighbours (none for the rest); xoff(i)
+// to xoff(i + 1) in xnb.  The scan's value holds the entries in its low 32 bits and, above,
+// the tool particles of the heat group that have some (xtool, the gather's range).  Entries
+// beyond xnb's size are counted, not written (the caller grows xnb and scans again).
+template <class DeviceType> struct CrossKernel {
+  typedef DeviceType device_type;
+  typedef int64_t value_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typedef typename DeviceType::memory_space mem;
+  static constexpr int64_t LOW = 0xffffffffLL, GATHER = 1LL << 32;
+  typename AT::t_int_1d_const mask;
+  typename AT::t_neighbors_2d neighbors;
+  typename AT::t_int_1d_const numneigh;
+  Kokkos::View<int *, mem> xoff, xnb, xtool;
+  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit;
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &upd, const bool final) const
+  {
+    const int m = mask(i);
+    const bool tool = m & toolbit;
+    const int start = (int) (upd & LOW);
+    int c = 0;
+    if (tool || contact_candidate(m, groupbit, toolbit, fixtoolbit, fixclampbit)) {
+      const int nn = numneigh(i);
+      for (int jj = 0; jj < nn; jj++) {
+        const int j = neighbors(i, jj) & NEIGHMASK;
+        if (((mask(j) & toolbit) != 0) == tool) continue;
+        if (final && start + c < (int) xnb.extent(0)) xnb(start + c) = j;
+        c++;
+      }
+    }
+    const bool gather = tool && (m & heatbit) && c > 0;
+    if (final) {
+      if (i == 0) xoff(0) = 0;
+      xoff(i + 1) = start + c;
+      if (gather) xtool((int) (upd >> 32)) = i;
+    }
+    upd += c + (gather ? GATHER : 0);
   }
 };
 
@@ -342,6 +403,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::setup(i
     fixkk->k_state.modify_host();
   }
   inside_checked = 1;
+  xcalls = -1;    // the cross neighbours from this setup's lists (masks may have changed between runs)
   post_force(vflag);
   fetch();
   if (write_every) write_geometry();
@@ -385,11 +447,6 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.state = fixkk->k_state.template view<DeviceType>();
   k.qtw = k_qtw.template view<DeviceType>();
   k.fout = k_fout.template view<DeviceType>();
-  if (k.step.tool_particles) {
-    auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
-    k.neighbors = kl->d_neighbors;
-    k.numneigh = kl->d_numneigh;
-  }
   k.mat = d_mat;
   k.h = d_h;
   k.dp = d_dp;
@@ -416,6 +473,12 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.cur = rec_cur;
   fields_step();
   k.facc = d_facc;
+  if (k.step.tool_particles && heat) {
+    cross_build();
+    k.xoff = d_xoff;
+    k.xnb = d_xnb;
+  }
+  k.reset = reset_accum;
   k.dtlim = fixkk->dt_slot_view<DeviceType>(this);
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
@@ -423,6 +486,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   // (final): no host round trip; fetch() brings them to the host when an output needs them
   Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, atom->nlocal), k,
                           Kokkos::subview(d_sums, std::make_pair(0, (int) NRED)));
+  reset_accum = 0;
   fixkk->k_dtlim.template modify<DeviceType>();
   fixkk->k_state.template modify<DeviceType>();
   k_qtw.template modify<DeviceType>();
@@ -463,7 +527,44 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
     tool_temp += qsum / tool_cp;
   }
   if (heat) heat->book_sources(a[A_QSRC]);
-  Kokkos::deep_copy(Kokkos::subview(d_sums, std::make_pair((int) NRED, (int) (NRED + NACCUM))), 0.0);
+  reset_accum = 1;    // added to the totals: the next contact kernel zeroes them (final)
+}
+
+/* the cross neighbours (CrossKernel) from the lists of the last reneighbouring: once per build
+   of the lists (and at each setup); the scan's total sizes d_xnb (grown, then scanned again)
+   and the gather's range */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::cross_build()
+{
+  const int nlocal = atom->nlocal;
+  if (xcalls == neighbor->ncalls && xnlocal == nlocal) return;
+  xcalls = neighbor->ncalls;
+  xnlocal = nlocal;
+  if ((int) d_xoff.extent(0) < atom->nmax + 1) {
+    d_xoff = Kokkos::View<int *, mem>("contact:xoff", atom->nmax + 1);
+    d_xtool = Kokkos::View<int *, mem>("contact:xtool", atom->nmax);
+  }
+  if (d_xnb.extent(0) == 0) d_xnb = Kokkos::View<int *, mem>("contact:xnb", 1024);
+  auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
+  CrossKernel<DeviceType> c;
+  c.mask = atomKK->k_mask.view<DeviceType>();
+  c.neighbors = kl->d_neighbors;
+  c.numneigh = kl->d_numneigh;
+  c.xoff = d_xoff;
+  c.xtool = d_xtool;
+  c.groupbit = groupbit;
+  c.toolbit = toolbit;
+  c.fixtoolbit = fix->toolbit;
+  c.fixclampbit = fix->clampbit;
+  c.heatbit = heat->groupbit;
+  int64_t total = 0;
+  for (int pass = 0; pass < 2; pass++) {
+    c.xnb = d_xnb;
+    Kokkos::parallel_scan("sphcut:contact:cross_build", sphcut::range<DeviceType>(0, nlocal), c, total);
+    const int64_t need = total & CrossKernel<DeviceType>::LOW;
+    if (need <= (int64_t) d_xnb.extent(0)) break;
+    d_xnb = Kokkos::View<int *, mem>("contact:xnb", need + need / 4 + 1024);
+  }
+  nxtool = nlocal > 0 ? (int) (total >> 32) : 0;
 }
 
 /* the decomposition by tool feature (decomp) and the deepest penetration (maxpen) of the last
@@ -509,7 +610,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
   k_qtw.template sync<DeviceType>();
-  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state, list);
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
   auto qtw = k_qtw.template view<DeviceType>();
   auto mat = d_mat;
   auto hij = d_hij;
@@ -517,14 +618,17 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   const int kern = model->kernel(), dim = domain->dimension;
   const double acc = update->setupflag ? 0.0 : update->dt;
   auto qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
+  auto xoff = d_xoff, xnb = d_xnb, xtool = d_xtool;
+  // the tool particles next to non-tool ones (the others have no contact particle around them),
+  // each over its non-tool neighbours in the list's order (the others hold no heat: qtw 0)
   Kokkos::parallel_for("sphcut:contact:tool_heat_gather",
-      sphcut::range<DeviceType>(0, list->inum),
-      KOKKOS_LAMBDA(const int jj_) {
-        const int j = av.ilist(jj_);
+      sphcut::range<DeviceType>(0, nxtool),
+      KOKKOS_LAMBDA(const int t) {
+        const int j = xtool(t);
         if (!(av.mask(j) & tb)) return;
         double p = 0.0;
-        for (int ii = 0; ii < av.numneigh(j); ii++) {
-          const int i = av.neighbors(j, ii) & NEIGHMASK;
+        for (int c = xoff(j); c < xoff(j + 1); c++) {
+          const int i = xnb(c);
           if (!(qtw(i, 0) > 0.0)) continue;
           double r2 = 0.0;
           for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - av.x(j, k)) * (av.x(i, k) - av.x(j, k));

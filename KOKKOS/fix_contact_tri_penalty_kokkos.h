@@ -88,6 +88,16 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   double vtool_dev[3] = {0.0, 0.0, 0.0};         // tool velocity the tool particles were last given
   void tool_velocity_device();
   void tool_heat_gather();                       // adds the tool's heat to its particles and to d_sums
+  // the cross neighbours (built at each reneighbouring, cross_build): for a local tool particle
+  // its listed neighbours that are not tool particles, for a contact candidate its listed tool
+  // neighbours, in the order of the neighbour list (d_xnb from d_xoff(i) to d_xoff(i + 1));
+  // d_xtool: the local tool particles of the heat fix's group that have some (the gather's range)
+  Kokkos::View<int *, mem> d_xoff, d_xnb, d_xtool;
+  int nxtool = 0;
+  bigint xcalls = -1;                            // neighbor->ncalls at the last build (-1: build)
+  int xnlocal = -1;
+  void cross_build();
+  int reset_accum = 0;                           // fetch() read the accumulators: the next kernel zeroes them
   // tool fields per facet: the contact kernel adds each contact's share to d_facc (atomics, the
   // running interval's sums of this rank); the host copy (fields.acc) is made at the interval's
   // end, at restarts and at the end of a run only
