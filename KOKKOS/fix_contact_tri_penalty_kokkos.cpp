@@ -609,6 +609,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
    around them, kernel weighted (the CPU fix scatters it from the contact particle's side) */
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
+  if (nxtool == 0) return;    // no tool particle has a non-tool neighbour (the tool is away)
   k_qtw.template sync<DeviceType>();
   const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
   auto qtw = k_qtw.template view<DeviceType>();
