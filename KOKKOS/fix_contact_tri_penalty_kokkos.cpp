@@ -637,10 +637,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
           if (w > 0.0) p += qtw(i, 0) * w;
         }
         if (!(p > 0.0) || !(av.mask(j) & hb)) return;
-        const double cp = mat(av.type(j)).cp;
-        if (cp <= 0.0) return;
         const double m = use_rmass ? av.rmass(j) : av.mass(av.type(j));
-        av.st(j, FixSPHJCThermal::DTEMP) += p / (m * cp);
+        if (!sphcut::add_source_heat(av.st(j, FixSPHJCThermal::DTEMP), p, m, mat(av.type(j)).cp)) return;
         if (acc > 0.0) Kokkos::atomic_add(&qsrc(), p * acc);
       });
   fixkk->k_state.template modify<DeviceType>();
