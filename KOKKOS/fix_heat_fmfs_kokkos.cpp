@@ -8,9 +8,12 @@
                              the pairwise exchange and the surface losses
                              into the held rate (state column HELD)
      conservative no         one kernel: the FMFS or Brookshaw Laplacian
-   Every step one kernel adds the held rate to the temperature rate DTEMP.
-   Dirichlet groups: one kernel after the predictor, one reduction after
-   the corrector (the heat through the clamp).  The few global sums (loss
+   Other steps launch nothing here: fix sph/jc-thermal/kk adds the held
+   rate to the temperature rate DTEMP in its corrector and sets the
+   predicted temperature of the Dirichlet groups in its predictor (the
+   rules this fix hands it in init, set_heat_rules; at the setup a kernel
+   of this fix each).  Dirichlet groups: one reduction after the
+   corrector (the heat through the clamp).  The few global sums (loss
    rates, scheme counters) come back by parallel_reduce.  With an adaptive
    step the reduction after the corrector (with or without Dirichlet
    groups) also writes the thermal dt limit into this fix's slot of fix
@@ -193,7 +196,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 {
   check_timestep();
   if (!dirichlet.empty()) {
-    set_dirichlet(true);    // Dirichlet particles start at their temperature
+    set_dirichlet();    // Dirichlet particles start at their temperature
     sphcut::forward_comm(comm, fix);
   }
   post_force(vflag);
@@ -203,12 +206,14 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
 {
+  // an evaluation step computes the held rate HELD; fix sph/jc-thermal/kk's corrector adds it to the
+  // temperature rate (sphcut::add_held_rate, set_heat_rules), so other steps launch nothing here
   const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
-  if (eval) begin_evaluation();
-  sphcut::FencedTimer timer(cpu_time);
-  atomKK->sync(execution_space, datamask_read);
-  fixkk->k_state.template sync<DeviceType>();
   if (eval) {
+    begin_evaluation();
+    sphcut::FencedTimer timer(cpu_time);
+    atomKK->sync(execution_space, datamask_read);
+    fixkk->k_state.template sync<DeviceType>();
     if (conservative) {
       if (domain->dimension == 2) conduction_conservative_kk<2>();
       else conduction_conservative_kk<3>();
@@ -216,8 +221,8 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
       if (domain->dimension == 2) conduction_kk<2>();
       else conduction_kk<3>();
     }
+    if (update->setupflag) add_held();    // (no corrector follows the setup)
   }
-  add_held();
   if (!update->setupflag) {
     q_conv += 0.5 * update->dt * (p_conv_prev + held_conv);
     q_rad += 0.5 * update->dt * (p_rad_prev + held_rad);
@@ -236,6 +241,7 @@ template <class DeviceType> bool FixHeatFMFSKokkos<DeviceType>::begin_evaluation
   return fuse_surface;
 }
 
+// the held rate into the temperature rate at the setup (FixHeatFMFS::post_force)
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
 {
   auto st = fixkk->k_state.template view<DeviceType>();
@@ -243,7 +249,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::add_held()
   const int gb = groupbit;
   Kokkos::parallel_for("sphcut:heat:add_held",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
-        if (mask(i) & gb) st(i, FixSPHJCThermal::DTEMP) += st(i, FixSPHJCThermal::HELD);
+        if (mask(i) & gb) sphcut::add_held_rate(&st(i, 0));
       });
   fixkk->k_state.template modify<DeviceType>();
 }
@@ -513,19 +519,12 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_c
 }
 
 /* ----------------------------------------------------------------------
-   Dirichlet groups (FixHeatFMFS::initial_integrate, final_integrate)
+   Dirichlet groups (FixHeatFMFS::setup, final_integrate; after the predictor
+   fix sph/jc-thermal/kk sets their predicted temperature in its own kernel)
 ------------------------------------------------------------------------- */
 
-template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::initial_integrate(int)
-{
-  if (dirichlet.empty()) return;
-  sphcut::FencedTimer timer(cpu_time);
-  set_dirichlet(false);
-}
-
-// Dirichlet particles to their temperature: the predicted one (TEMP_F), with also_temp the
-// temperature itself (setup)
-template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet(bool also_temp)
+// at the setup: Dirichlet particles start at their temperature (TEMP and the predicted TEMP_F)
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet()
 {
   atomKK->sync(execution_space, MASK_MASK);
   fixkk->k_state.template sync<DeviceType>();
@@ -533,13 +532,12 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet(bo
   auto mask = atomKK->k_mask.view<DeviceType>();
   auto db = d_dirbit;
   auto dtemp = d_dirtemp;
-  const int gb = groupbit, nd = (int) dirichlet.size(), both = also_temp;
+  const int gb = groupbit, nd = (int) dirichlet.size();
   Kokkos::parallel_for("sphcut:heat:set_dirichlet",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
         if (k < 0) return;
-        st(i, FixSPHJCThermal::TEMP_F) = dtemp(k);
-        if (both) st(i, FixSPHJCThermal::TEMP) = dtemp(k);
+        st(i, FixSPHJCThermal::TEMP_F) = st(i, FixSPHJCThermal::TEMP) = dtemp(k);
       });
   fixkk->k_state.template modify<DeviceType>();
 }

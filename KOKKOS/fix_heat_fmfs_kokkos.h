@@ -39,7 +39,6 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void post_constructor() override;
   void init() override;
   void setup(int) override;
-  void initial_integrate(int) override;
   void post_force(int) override;
   void final_integrate() override;
   double compute_vector(int) override;
@@ -73,8 +72,8 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   template <int DIM> void conduction_conservative_kk();
   template <int DIM> void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
   template <int DIM> void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
-  void add_held();
-  void set_dirichlet(bool also_temp);
+  void add_held();    // setup only (during the run fix sph/jc-thermal/kk's corrector adds HELD)
+  void set_dirichlet();    // setup only (during the run fix sph/jc-thermal/kk's predictor sets TEMP_F)
   // the heat the Dirichlet groups took since the host last read it (final_integrate adds to it on
   // the device, no host round trip per step); fetch_dirichlet adds it to q_dirichlet.  Element 0
   // the accumulator, 1-2 final_integrate's reduction (the step's heat, the thermal dt limit)

@@ -3,11 +3,16 @@
 
    One step on the device (doc/design.md):
      initial_integrate  one kernel: keep the old rates, kick, drift,
-                        predictor, radial return (sphcut_solid.h)
+                        predictor, radial return (sphcut_solid.h), the
+                        rates zeroed, the predicted temperature of an
+                        attached heat fix's Dirichlet groups (its rules,
+                        set_heat_rules: no kernel of the heat fix's own)
      pre_force          the rates were zeroed by initial_integrate (one kernel
                         zeroing them only after reneighbouring), then the force state
                         to the ghosts by device forward communication
-     final_integrate    one reduction: corrector, radial return, plastic
+     final_integrate    one reduction: the heat fix's held rate into the
+                        temperature rate (add_held_rate: no kernel of the
+                        heat fix's own), corrector, radial return, plastic
                         heat, and the sums the host needs (plastic work,
                         this rank's Courant limit) into a device view
      end_of_step        every dtevery-th step: that view with the attached
@@ -83,7 +88,7 @@ template <class DeviceType> struct SecondHalf {
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
-  int groupbit, toolbit, clampbit, use_rmass, want_dt;
+  int groupbit, toolbit, clampbit, use_rmass, want_dt, heldbit;
   double dt, dtf, cfl, vmax, tmax;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const { sphcut::sum_min_init(r); }
@@ -104,6 +109,7 @@ template <class DeviceType> struct SecondHalf {
     double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
     const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
     double *s = &state(i, 0);
+    if (mask(i) & heldbit) sphcut::add_held_rate(s);    // an attached heat style's held rate
     r[0] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
     for (int d = 0; d < 3; d++) v(i, d) = vi[d];
     if (want_dt) {
@@ -228,6 +234,21 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   atomKK->k_mass.modify<LMPHostType>();
   atomKK->k_mass.sync<DeviceType>();
   upload_tables();
+}
+
+// the Dirichlet table of the heat rules to the device (one element more: never empty)
+template <class DeviceType>
+void FixSPHJCThermalKokkos<DeviceType>::set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb,
+                                                       const std::vector<int> &bits,
+                                                       const std::vector<double> &temps)
+{
+  FixSPHJCThermal::set_heat_rules(owner, heldbit, gb, bits, temps);
+  std::vector<int> b(bits);
+  std::vector<double> t(temps);
+  b.push_back(0);
+  t.push_back(0.0);
+  d_dirbit = sphcut::to_device<int, DeviceType>(b.data(), (int) b.size(), "sph/jc-thermal:dirbit");
+  d_dirtemp = sphcut::to_device<double, DeviceType>(t.data(), (int) t.size(), "sph/jc-thermal:dirtemp");
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::upload_tables()
@@ -371,27 +392,31 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   auto mat = d_mat;
   const int gb = groupbit, tb = toolbit, cb = clampbit, use_rmass = atom->rmass_flag;
   const double dt = dtv, dtfh = dtf;
+  // an attached heat style's Dirichlet groups (set_heat_rules): their predicted temperature here,
+  // after the predictor, instead of in a kernel of the style's own
+  auto dbit = d_dirbit;
+  auto dtemp = d_dirtemp;
+  const int hgb = heat_rules.gb, nd = (int) heat_rules.bits.size();
   // the rates are zeroed here, after the predictor has saved them (DRHO_O, ...), instead of in a
   // kernel of their own at pre_force: one launch fewer on steps without reneighbouring (pre_force
   // zeroes them again where atoms may have moved, been exchanged or created)
   Kokkos::parallel_for("sphcut:sph:initial_integrate",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
-        if (!(mask(i) & gb)) {
-          sphcut::zero_rates(&st(i, 0));
-          return;
+        if (mask(i) & gb) {
+          const int t = type(i);
+          const double m = use_rmass ? rmass(i) : mass(t);
+          double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+          double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
+          const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
+          sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), tb, cb), dt, dtfh / m, xi, vi,
+                                       fi, &st(i, 0));
+          for (int d = 0; d < 3; d++) {
+            x(i, d) = xi[d];
+            v(i, d) = vi[d];
+          }
         }
-        const int t = type(i);
-        const double m = use_rmass ? rmass(i) : mass(t);
-        double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-        double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
-        const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
-        sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), tb, cb), dt, dtfh / m, xi, vi,
-                                     fi, &st(i, 0));
         sphcut::zero_rates(&st(i, 0));
-        for (int d = 0; d < 3; d++) {
-          x(i, d) = xi[d];
-          v(i, d) = vi[d];
-        }
+        if (nd) sphcut::hold_predicted_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, &st(i, 0));
       });
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, datamask_modify);
@@ -468,6 +493,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.groupbit = groupbit;
   k.toolbit = toolbit;
   k.clampbit = clampbit;
+  k.heldbit = heat_rules.heldbit;
   k.use_rmass = atom->rmass_flag;
   k.want_dt = cfl > 0.0;
   k.dt = dtv;

@@ -107,6 +107,9 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   }
   void check_close_pairs() override;
   void report_runaway() override;
+  // the heat rules on the device too (the Dirichlet table: d_dirbit, d_dirtemp)
+  void set_heat_rules(const sphcut::AttachedStyle *, int, int, const std::vector<int> &,
+                      const std::vector<double> &) override;
 
   // the state follows its atoms by tag on the device, on any number of ranks (no host
   // exchange, see .cpp; keyword migrate device)
@@ -128,6 +131,8 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void grow_on_device(int n);
   t_mat d_mat;                 // materials per type (device copy of the pair's)
   t_h d_h;                     // smoothing length per type
+  Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;       // heat_rules.bits on the device
+  Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;   // heat_rules.temps
   void upload_tables();
   void sync_host_state() { k_state.sync_host(); }
   void modified_host_state() { k_state.modify_host(); }

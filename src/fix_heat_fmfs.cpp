@@ -142,9 +142,11 @@ FixHeatFMFS::~FixHeatFMFS()
   memory->destroy(fwts);
 }
 
+// (the Dirichlet temperatures after the predictor and the held rate on ordinary steps are applied
+// by fix sph/jc-thermal in its own passes: set_heat_rules in init)
 int FixHeatFMFS::setmask()
 {
-  return INITIAL_INTEGRATE | POST_FORCE | FINAL_INTEGRATE;
+  return POST_FORCE | FINAL_INTEGRATE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -153,6 +155,15 @@ void FixHeatFMFS::init()
 {
   fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &model);
   fix->attach(this);
+  // the integrator adds the held rate (HELD) of this group to the temperature rate before its
+  // corrector, and sets the predicted temperature of the Dirichlet groups after its predictor
+  std::vector<int> dbits;
+  std::vector<double> dtemps;
+  for (const auto &d : dirichlet) {
+    dbits.push_back(d.groupbit);
+    dtemps.push_back(d.temp);
+  }
+  fix->set_heat_rules(this, groupbit, groupbit, dbits, dtemps);
   // Dirichlet temperatures are imposed after the temperature update of that fix
   int ifix = -1, ime = -1, ninst = 0;
   for (int i = 0; i < modify->nfix; i++) {
@@ -267,9 +278,13 @@ void FixHeatFMFS::post_force(int)
       else conduction<3>();
     }
   }
-  double **st = fix->state;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (atom->mask[i] & groupbit) st[i][FixSPHJCThermal::DTEMP] += st[i][FixSPHJCThermal::HELD];
+  // the held rate joins the temperature rate: at the setup here, during the run in fix
+  // sph/jc-thermal's corrector (sphcut::add_held_rate, set_heat_rules)
+  if (update->setupflag) {
+    double **st = fix->state;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (atom->mask[i] & groupbit) sphcut::add_held_rate(st[i]);
+  }
   // losses over the step with the trapezoidal weights of the temperature update
   if (!update->setupflag) {
     q_conv += 0.5 * update->dt * (p_conv_prev + held_conv);
@@ -632,15 +647,9 @@ void FixHeatFMFS::final_integrate()
   }
 }
 
-// after the predictor of fix sph/jc-thermal: Dirichlet particles keep their temperature
-// (their rate is kept, so the next corrector books the flux with trapezoidal weights)
-void FixHeatFMFS::initial_integrate(int)
-{
-  for (int i = 0; i < atom->nlocal; i++) {
-    const int k = dirichlet_of(atom->mask[i]);
-    if (k >= 0) fix->state[i][FixSPHJCThermal::TEMP_F] = dirichlet[k].temp;
-  }
-}
+// after the predictor of fix sph/jc-thermal, Dirichlet particles keep their temperature: that fix
+// sets their predicted temperature itself (sphcut::hold_predicted_temperature, set_heat_rules); their
+// rate is kept, so the next corrector books the flux with trapezoidal weights
 
 /* ----------------------------------------------------------------------
    global vector: 1 heat lost by convection, 2 by radiation, 3 heat entering

@@ -36,7 +36,6 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   void init() override;
   void init_list(int, class NeighList *) override;
   void setup(int) override;
-  void initial_integrate(int) override;
   void post_force(int) override;
   void final_integrate() override;
   double compute_vector(int) override;

@@ -364,10 +364,15 @@ void FixSPHJCThermal::initial_integrate(int)
   const int nlocal = atom->nlocal;
   const Material *mat = model->materials();
 
+  // an attached heat style's Dirichlet groups (set_heat_rules): their predicted temperature
+  const HeatRules &hr = heat_rules;
+  const int nd = (int) hr.bits.size();
   for (int i = 0; i < nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    const double dtfm = dtf / (rmass ? rmass[i] : mass[type[i]]);
-    sphcut::integrate_first_half(mat[type[i]], role_of(mask[i]), dtv, dtfm, x[i], v[i], f[i], state[i]);
+    if (mask[i] & groupbit) {
+      const double dtfm = dtf / (rmass ? rmass[i] : mass[type[i]]);
+      sphcut::integrate_first_half(mat[type[i]], role_of(mask[i]), dtv, dtfm, x[i], v[i], f[i], state[i]);
+    }
+    if (nd) sphcut::hold_predicted_temperature(mask[i], hr.gb, hr.bits.data(), hr.temps.data(), nd, state[i]);
   }
 }
 
@@ -385,8 +390,11 @@ void FixSPHJCThermal::final_integrate()
   const int nlocal = atom->nlocal;
   const Material *mat = model->materials();
 
+  // an attached heat style's held rate (set_heat_rules) joins the temperature rate first
+  const int heldbit = heat_rules.heldbit;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
+    if (mask[i] & heldbit) sphcut::add_held_rate(state[i]);
     const double m = rmass ? rmass[i] : mass[type[i]];
     plastic_work += sphcut::integrate_second_half(mat[type[i]], role_of(mask[i]), dtv, dtf / m, m,
                                                   v[i], f[i], state[i]);
@@ -600,6 +608,18 @@ void FixSPHJCThermal::attach(sphcut::AttachedStyle *style)
   if (std::find(timed.begin(), timed.end(), style) == timed.end()) timed.push_back(style);
 }
 
+void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb,
+                                     const std::vector<int> &bits, const std::vector<double> &temps)
+{
+  if (bits.size() != temps.size())
+    error->all(FLERR, "Fix sph/jc-thermal: {} Dirichlet groups with {} temperatures", bits.size(), temps.size());
+  heat_rules.owner = owner;
+  heat_rules.heldbit = heldbit;
+  heat_rules.gb = gb;
+  heat_rules.bits = bits;
+  heat_rules.temps = temps;
+}
+
 // the attached styles that still exist (a style may be deleted between runs; a run with
 // `pre no` calls no init, so the list is kept from run to run and only pruned here)
 void FixSPHJCThermal::prune_attached()
@@ -614,6 +634,9 @@ void FixSPHJCThermal::prune_attached()
   for (auto *t : timed)
     if (std::find(live.begin(), live.end(), t) != live.end()) kept.push_back(t);
   timed.swap(kept);
+  // the heat rules of a style deleted since
+  if (heat_rules.owner && std::find(live.begin(), live.end(), heat_rules.owner) == live.end())
+    set_heat_rules(nullptr, 0, 0, {}, {});
 }
 
 void FixSPHJCThermal::reset_timers()

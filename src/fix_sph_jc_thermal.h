@@ -69,6 +69,14 @@ class FixSPHJCThermal : public Fix,
   std::string timing_name() const override { return "fix sph/jc-thermal (integration)"; }
   // timing table: the styles that report their time (each attaches itself in its init)
   void attach(sphcut::AttachedStyle *style) override;
+  // an attached heat style (fix heat/fmfs, in its init) hands over the temperature rules that this
+  // fix applies for it in its own per-particle passes (sphcut_solid.h), so that the style runs no
+  // pass of its own on an ordinary step: heldbit, the group whose held rate (column HELD) joins
+  // the temperature rate before the corrector; gb, bits, temps: its group and Dirichlet groups,
+  // whose predicted temperature the predictor sets.  One owner (the last to call); dropped when
+  // the owner is deleted (prune_attached).
+  virtual void set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb, const std::vector<int> &bits,
+                              const std::vector<double> &temps);
   // for the other sphcut styles: the model (of the pair style) and this fix, or an error that
   // names `who` (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
   static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
@@ -92,6 +100,12 @@ class FixSPHJCThermal : public Fix,
   double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
   double plastic_work;        // accumulated plastic work (energy units), this rank
   std::vector<sphcut::AttachedStyle *> timed;    // attached styles, this run
+  struct HeatRules {                              // set_heat_rules
+    const sphcut::AttachedStyle *owner = nullptr;
+    int heldbit = 0, gb = 0;
+    std::vector<int> bits;
+    std::vector<double> temps;
+  } heat_rules;
   int grow_callback = 1;      // the state migrates through Atom's grow callback (/kk on one rank: no)
   void initialize_atom(int);
   void setup_state();         // host part of setup_pre_force: complete the state of new atoms

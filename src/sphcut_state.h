@@ -7,7 +7,8 @@
 
    group           columns                         written by
    output          RHO .. DTEMP                    fix sph/jc-thermal (integration);
-                                                   DTEMP: every heat source adds to it
+                                                   DTEMP: every heat source adds to it (the
+                                                   held rate HELD: the fix, before its corrector)
    force state     RHO_F, SF(6), TEMP_F, VEST(3)   fix sph/jc-thermal predictor; sent to
                                                    the ghosts before the forces (NFORWARD)
    rates           DRHO, DS(6), DU                 zeroed by the fix, added by the pair
@@ -31,7 +32,8 @@ struct StateLayout {
   enum Column {
     // output (documented in doc/fix_sph_jc_thermal.rst)
     RHO = 0, PRESS, SXX, SYY, SZZ, SXY, SXZ, SYZ, VM, EPS, EPSDOT, TEMP, ROLE, UINT,
-    DTEMP,                                  // temperature rate of this step (all heat sources)
+    DTEMP,                                  // temperature rate of this step (all heat sources; HELD joins
+                                            // it at the corrector, sphcut::add_held_rate)
     NOUT,                                   // columns above are the documented output
     // force state: the predictor the forces of a step are computed from
     RHO_F = NOUT, SF, TEMP_F = SF + 6, VEST,
@@ -41,6 +43,7 @@ struct StateLayout {
     XSPH, VEND = XSPH + 3,                  // XSPH velocity correction, v at end of last step
     // per-atom data of the attached styles
     HELD = VEND + 3,                        // fix heat/fmfs: temperature rate held between evaluations
+                                            // (fix sph/jc-thermal adds it to DTEMP: set_heat_rules)
     FCONT,                                  // fix contact/tri-penalty: contact force of the last step (3)
     VCONT = FCONT + 3,                      // velocity the contact used last step (3), valid flag (1)
     FMEM = VCONT + 4,                       // friction memory: friction force of the last step (3),

@@ -489,15 +489,8 @@ SPHCUT_INLINE double thermal_dt_limit(double rho, double cp, double kappa, doubl
 // Stefan-Boltzmann constant in SI units (radiation of fix heat/fmfs needs units si)
 constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
 
-// Dirichlet group of a particle: the first of the n group bits its mask holds (-1: none, or the
-// particle is outside the fix group gb)
-SPHCUT_INLINE int dirichlet_index(int mask, int gb, const int *bits, int n)
-{
-  if (!(mask & gb)) return -1;
-  for (int k = 0; k < n; k++)
-    if (mask & bits[k]) return k;
-  return -1;
-}
+// (the Dirichlet group of a particle, dirichlet_index, is in sphcut_solid.h: the integrator applies
+// the Dirichlet temperatures in its predictor)
 
 // ---------------------------------------------------------------------------
 // free-surface indicator (Marrone et al. 2010; seed 003 sec. 4.2)

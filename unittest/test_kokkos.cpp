@@ -8,7 +8,10 @@
 #include "input.h"
 #include "update.h"
 
+#include <Kokkos_Core.hpp>
+
 #include <fstream>
+#include <map>
 #include <sstream>
 
 using namespace sphcut_test;
@@ -571,6 +574,59 @@ TEST(KokkosThermal, HeatOptionsMatchCpu)
     EXPECT_GT(e[0][1], 0.0);
     EXPECT_LT(dh, 1e-10) << opts;
   }
+}
+
+namespace {
+// kernel launches by name outside the setup (Kokkos Tools callbacks in this process)
+std::map<std::string, int> launches;
+LAMMPS_NS::LAMMPS *counted = nullptr;
+void count_launch(const char *name, const uint32_t, uint64_t *id)
+{
+  *id = 0;
+  if (counted && !counted->update->setupflag) launches[name]++;
+}
+void no_end(uint64_t) {}
+}    // namespace
+
+// an ordinary step of the heat fix launches no kernel of its own under /kk: the held rate joins
+// the temperature rate in fix sph/jc-thermal/kk's corrector and the Dirichlet particles' predicted
+// temperature is set in its first-half kernel (the heat rules, set_heat_rules); the heat fix
+// launches its evaluation every 5 steps and its reduction after the corrector (Dirichlet heat)
+TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
+{
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  l.cmds({"units si", "dimension 3", "boundary f f f", "newton off", "atom_style atomic", "atom_modify map array",
+          "lattice sc 2e-4", "region box block -2 8 -2 8 -2 8", "create_box 1 box",
+          "region a block -0.01 5.01 -0.01 5.01 -0.01 5.01", "create_atoms 1 region a",
+          "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
+          "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
+          "fix sph all sph/jc-thermal temp 300 cfl 0.3", "fix heat all heat/fmfs every 5 dirichlet bot 900",
+          "thermo 0", "run 0"});
+  launches.clear();
+  counted = l.lmp;
+  Kokkos::Tools::Experimental::set_begin_parallel_for_callback(count_launch);
+  Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(count_launch);
+  Kokkos::Tools::Experimental::set_end_parallel_for_callback(no_end);
+  Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(no_end);
+  l.cmd("run 20");
+  Kokkos::Tools::Experimental::set_begin_parallel_for_callback(nullptr);
+  Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(nullptr);
+  Kokkos::Tools::Experimental::set_end_parallel_for_callback(nullptr);
+  Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(nullptr);
+  counted = nullptr;
+  int heat = 0;
+  for (auto &n : launches)
+    if (n.first.rfind("sphcut:heat:", 0) == 0) {
+      std::printf("[ launches ] %-32s %3d in 20 steps\n", n.first.c_str(), n.second);
+      heat += n.second;
+    }
+  EXPECT_EQ(launches["sphcut:sph:initial_integrate"], 20);    // the counting works
+  EXPECT_EQ(launches["sphcut:sph:final_integrate"], 20);
+  EXPECT_EQ(launches["sphcut:heat:weights"], 4);              // the evaluations (steps 5, 10, 15, 20)
+  EXPECT_EQ(launches["sphcut:heat:final_integrate"], 20);     // the Dirichlet heat after the corrector
+  EXPECT_EQ(launches["sphcut:heat:add_held"], 0);
+  EXPECT_EQ(launches["sphcut:heat:set_dirichlet"], 0);
+  EXPECT_GT(l.equal("f_heat[3]"), 0.0);    // heat entered through the hot Dirichlet layer
 }
 
 // the cut split by a restart across the styles: 8000 steps with the CPU styles, write_restart,

@@ -11,6 +11,9 @@
 // Build (device machine):  g++ -O2 -shared -fPIC -o libkp_timer.so kp_timer.cpp
 //                            -I$CUDA/include -L$CUDA/lib64 -lcudart
 // Use:  KOKKOS_PROFILE_LIBRARY=$PWD/libkp_timer.so lmp -k on g 1 -sf kk ...
+// Launch counts without a GPU (the OpenMP build, -k on t N): the same build against the CUDA
+// toolkit's headers and libcudart, run with KP_TIMER_SYNC=0 (that mode makes no CUDA call); the
+// calls of two runs of N and 2N steps subtract to the launches of N ordinary steps.
 #include <cuda_runtime_api.h>
 #include <cxxabi.h>
 

@@ -17,6 +17,8 @@
 #            (default 200) with migrate device and migrate host: particle-steps/s, efficiency
 #            t1 / (N tN), the time per reneighbouring, LAMMPS' timer table (min/avg/max over the
 #            ranks) and the sphcut timing table (max over the ranks) per run
+#   classic  (after strong) its runs on 2 and 4 GPUs with LAMMPS' classic host path for the forward
+#            communication (SPHCUT_LAMMPS_CLASSIC_FORWARD=1), the baseline of fix 6 of tools/build-deps.sh
 #   weak     the same with NZ x N layers on N GPUs (about 4.1 M particles per GPU): efficiency t1 / tN
 # Settings (environment): MGPU_NP (GPU counts, default "1 2 4"; counts above the machine's GPUs are
 # skipped), MGPU_MIGRATE ("device host"), NZ (232), STEPS (200), REBUILD (reneighbour every this many
@@ -47,7 +49,7 @@ kk() {
   echo "${SPHCUT_GPU_ARGS:--k on g $n -sf kk} -pk kokkos neigh full newton off${GPU_AWARE:+ gpu/aware $GPU_AWARE}"
 }
 # host build tries: no gpu/aware keyword without a GPU
-[ -n "${SPHCUT_GPU_ARGS:-}" ] && kk() { echo "$SPHCUT_GPU_ARGS -pk kokkos neigh full newton off"; }
+[ -n "${SPHCUT_GPU_ARGS:-}" ] && kk() { case "$SPHCUT_GPU_ARGS" in *-pk*) echo "$SPHCUT_GPU_ARGS" ;; *) echo "$SPHCUT_GPU_ARGS -pk kokkos neigh full newton off" ;; esac; }
 
 # the plugin's LAMMPS on N MPI ranks, at most MGPU_TIMEOUT seconds
 mlmp() {
@@ -130,7 +132,7 @@ check2() {
   local v2="-var ny 11 -var xstart 1 -var steps 1500 -var cut 1e-3 -var thermoevery 500 -var dumpevery 0"
   local v3="-var ny 6 -var nz 3 -var sides free -var xstart 1 -var steps 1500 -var cut 1e-3 -var thermoevery 500"
   local d ex v
-  for d in 2 3; do
+  for d in ${CHECK2_DIMS:-2 3}; do
     if [ $d = 2 ]; then ex=$EX2 v=$v2; else ex=$EX3 v=$v3; fi
     cut_run 1 g1d$d $ex $v || continue
     RESTART_TAG=$([ $d = 2 ] && echo yes || echo none) cut_run 2 g2d$d $ex $v || continue
@@ -228,6 +230,27 @@ scaling() {
   cd "$ROOT"
 }
 strong() { scaling strong; }
+# the strong runs on more than one GPU again with LAMMPS' own choice for an MPI that is not GPU-aware
+# (SPHCUT_LAMMPS_CLASSIC_FORWARD=1: every forward communication through its classic host path, the
+# whole x array and each fix's columns to the host and back every step) instead of the device
+# packing with the messages staged through the host (fix 6 of tools/build-deps.sh); run after
+# `strong` (its 1-GPU run is the reference)
+classic() {
+  mkdir -p $W/scale; cd $W/scale
+  local r1="" n
+  [ -f log.strong.device.1 ] && r1=$(rate_of log.strong.device.1)
+  for n in ${MGPU_NP:-2 4}; do
+    [ "$n" -gt 1 ] && [ "$n" -le "$NGPU" ] || continue
+    local tag=strong.classic.$n
+    SPHCUT_LAMMPS_CLASSIC_FORWARD=1 scale_run $n device ${NZ:-232} $tag || continue
+    local r; r=$(rate_of log.$tag)
+    local eff="n/a (no 1-GPU run)"
+    [ -n "$r1" ] && eff=$(awk -v a=$r1 -v b=$r -v n=$n 'BEGIN{printf "%.0f %%", 100*b/(n*a)}')
+    say "strong, LAMMPS' classic host forward communication, $n GPU(s): $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.$tag), efficiency $eff"
+    breakdown log.$tag
+  done
+  cd "$ROOT"
+}
 weak() { scaling weak; }
 check() { check2; }
 
