@@ -6,6 +6,7 @@
 #include "sphcut_collision.h"
 
 #include "input.h"
+#include "neighbor.h"
 #include "update.h"
 
 #include <Kokkos_Core.hpp>
@@ -580,10 +581,15 @@ namespace {
 // kernel launches by name outside the setup (Kokkos Tools callbacks in this process)
 std::map<std::string, int> launches;
 LAMMPS_NS::LAMMPS *counted = nullptr;
+long max_builds = 0;    // neighbour list builds in the steps of the run (ncalls at its end)
 void count_launch(const char *name, const uint32_t, uint64_t *id)
 {
   *id = 0;
-  if (counted && !counted->update->setupflag) launches[name]++;
+  if (counted && !counted->update->setupflag) {
+    launches[name]++;
+    if (counted->update->whichflag)    // in a run (ncalls is set by the run's init)
+      max_builds = std::max(max_builds, (long) counted->neighbor->ncalls);
+  }
 }
 void no_end(uint64_t) {}
 }    // namespace
@@ -627,6 +633,80 @@ TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
   EXPECT_EQ(launches["sphcut:heat:add_held"], 0);
   EXPECT_EQ(launches["sphcut:heat:set_dirichlet"], 0);
   EXPECT_GT(l.equal("f_heat[3]"), 0.0);    // heat entered through the hot Dirichlet layer
+}
+
+namespace {
+std::map<std::string, int> scans;    // parallel_scan launches by name (setups: "setup " + name)
+int sums_fills = 0;                  // fills of the contact fix's sums (deep_copy of a scalar)
+void count_scan(const char *name, const uint32_t, uint64_t *id)
+{
+  *id = 0;
+  if (!counted) return;
+  scans[(counted->update->setupflag ? "setup " : "") + std::string(name)]++;
+}
+void count_copy(Kokkos::Tools::SpaceHandle, const char *dst, const void *, Kokkos::Tools::SpaceHandle,
+                const char *src, const void *, uint64_t)
+{
+  if (std::string(dst) == "contact:sums" && std::string(src) == "Scalar") sums_fills++;
+}
+}    // namespace
+
+// the launches of fix contact/tri-penalty/kk in the 2D cut with thermal tool particles: per
+// ordinary step the contact reduction and, with the tool beside the workpiece (xstart 0.6), the
+// tool particles' heat gather (none while the tool is away: xstart 3, the first 100 steps); the
+// cross neighbours they walk are built at each setup and once per build of the neighbour lists
+// in the steps (ncalls counts these, not the setup's); the accumulators that an output step's
+// fetch read are zeroed by the next contact reduction, not by a fill (peratom_every 10)
+TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
+{
+  for (const int near : {1, 0}) {
+    const int steps = near ? 600 : 100;
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    for (auto &v : {std::string("xstart index ") + (near ? "0.6" : "3"), "steps index " + std::to_string(steps),
+                    std::string("ny index 11"), std::string("dumpevery index 0"), std::string("thermoevery index 100")})
+      l.cmd("variable " + v);
+    launches.clear();
+    scans.clear();
+    sums_fills = 0;
+    max_builds = 0;
+    counted = l.lmp;
+    Kokkos::Tools::Experimental::set_begin_parallel_for_callback(count_launch);
+    Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(count_launch);
+    Kokkos::Tools::Experimental::set_end_parallel_for_callback(no_end);
+    Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(no_end);
+    Kokkos::Tools::Experimental::set_begin_parallel_scan_callback(count_scan);
+    Kokkos::Tools::Experimental::set_end_parallel_scan_callback(no_end);
+    Kokkos::Tools::Experimental::set_begin_deep_copy_callback(count_copy);
+    l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+    Kokkos::Tools::Experimental::set_begin_parallel_for_callback(nullptr);
+    Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(nullptr);
+    Kokkos::Tools::Experimental::set_end_parallel_for_callback(nullptr);
+    Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(nullptr);
+    Kokkos::Tools::Experimental::set_begin_parallel_scan_callback(nullptr);
+    Kokkos::Tools::Experimental::set_end_parallel_scan_callback(nullptr);
+    Kokkos::Tools::Experimental::set_begin_deep_copy_callback(nullptr);
+    counted = nullptr;
+    const char *what = near ? "tool near" : "tool away";
+    for (auto &n : launches)
+      if (n.first.rfind("sphcut:contact:", 0) == 0)
+        std::printf("[ launches ] %s: %-34s %3d in %d steps\n", what, n.first.c_str(), n.second, steps);
+    std::printf("[ launches ] %s: sphcut:contact:cross_build %d in the steps for %ld list builds, %d in the 2 "
+                "setups; %d fills of the sums\n", what, scans["sphcut:contact:cross_build"], max_builds,
+                scans["setup sphcut:contact:cross_build"], sums_fills);
+    EXPECT_EQ(launches["sphcut:contact:post_force"], steps) << what;    // the counting works
+    // (on several ranks: on those with tool particles beside the workpiece)
+    int gather = launches["sphcut:contact:tool_heat_gather"], gmax = 0;
+    MPI_Allreduce(&gather, &gmax, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    EXPECT_TRUE(gather == 0 || gather == steps) << what;
+    EXPECT_EQ(gmax, near ? steps : 0) << what;
+    EXPECT_EQ(scans["sphcut:contact:cross_build"], max_builds) << what;
+    EXPECT_EQ(scans["setup sphcut:contact:cross_build"], 2) << what;    // run 0 and the run
+    EXPECT_EQ(sums_fills, 0) << what;
+    if (near) {
+      EXPECT_GT(max_builds, 0);                // the lists were built during the run
+      EXPECT_GT(l.equal("f_cut[7]"), 0.0);    // friction heat went into the tool particles
+    }
+  }
 }
 
 // the cut split by a restart across the styles: 8000 steps with the CPU styles, write_restart,
