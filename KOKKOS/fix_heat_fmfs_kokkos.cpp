@@ -8,16 +8,19 @@
                              the pairwise exchange and the surface losses
                              into the held rate (state column HELD)
      conservative no         one kernel: the FMFS or Brookshaw Laplacian
-   Other steps launch nothing here: fix sph/jc-thermal/kk adds the held
-   rate to the temperature rate DTEMP in its corrector and sets the
-   predicted temperature of the Dirichlet groups in its predictor (the
-   rules this fix hands it in init, set_heat_rules; at the setup a kernel
-   of this fix each).  Dirichlet groups: one reduction after the
-   corrector (the heat through the clamp).  The few global sums (loss
-   rates, scheme counters) come back by parallel_reduce.  With an adaptive
-   step the reduction after the corrector (with or without Dirichlet
-   groups) also writes the thermal dt limit into this fix's slot of fix
-   sph/jc-thermal/kk, on the device.
+   Other steps launch nothing here: fix sph/jc-thermal/kk applies this
+   fix's rules (handed over in init, set_heat_rules) in its own kernels:
+   its predictor sets the predicted temperature of the Dirichlet groups;
+   its corrector's reduction adds the held rate to the temperature rate
+   DTEMP before the corrector and, right after it, sets the Dirichlet
+   particles back to their temperature, summing the heat that takes (the
+   heat through the clamp) into a device accumulator this fix reads when
+   it needs q_dirichlet (output, restart, end of run), and with an
+   adaptive step writes the thermal dt limit into this fix's slot of fix
+   sph/jc-thermal/kk, on the device.  At the setup this fix sets the
+   Dirichlet temperatures and adds the held rate in a kernel each.  The
+   few global sums of an evaluation (loss rates, scheme counters) come
+   back by parallel_reduce.
 ------------------------------------------------------------------------- */
 
 #include "fix_heat_fmfs_kokkos.h"
@@ -50,55 +53,6 @@ namespace {
 constexpr int NW = 1 + 3 * 3 + 3;    // scheme flag, Gf (3x3), z (3)
 }    // namespace
 
-namespace {
-// after the corrector (FixHeatFMFS::final_integrate, dt_limit): the Dirichlet groups back to
-// their temperature and the heat that took (nd > 0), and the thermal dt limit over the group
-// (want_lim); final adds this step's heat to the accumulator and writes the limit into the
-// fix's slot, both on the device
-template <class DeviceType> struct HeatAfterCorrector {
-  typedef DeviceType device_type;
-  typedef double value_type[];
-  const unsigned value_count = 2;
-  typedef ArrayTypes<DeviceType> AT;
-  typedef typename DeviceType::memory_space mem;
-  typename AT::t_double_2d st;
-  typename AT::t_int_1d_const mask, type;
-  typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
-  Kokkos::View<const sphcut::Material *, mem> mat;
-  Kokkos::View<const double *, mem> h;
-  Kokkos::View<const int *, mem> db;
-  Kokkos::View<const double *, mem> dtemp;
-  Kokkos::View<double *, mem> acc;
-  typename AT::t_double_1d slot;
-  int gb, nd, use_rmass, want_lim, every;
-  double F;
-  KOKKOS_INLINE_FUNCTION void init(value_type r) const { sphcut::sum_min_init(r); }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
-  {
-    sphcut::sum_min_join(d, s);
-  }
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
-  {
-    if (want_lim && (mask(i) & gb)) {
-      const int t = type(i);
-      const double d = sphcut::thermal_dt_limit(st(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t), F, every);
-      if (d < r[1]) r[1] = d;
-    }
-    const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);
-    if (k < 0) return;
-    const int t = type(i);
-    const double m = use_rmass ? rmass(i) : mass(t);
-    r[0] += m * mat(t).cp * (dtemp(k) - st(i, FixSPHJCThermal::TEMP));
-    st(i, FixSPHJCThermal::TEMP) = dtemp(k);
-  }
-  KOKKOS_INLINE_FUNCTION void final(value_type r) const
-  {
-    acc(0) += r[0];
-    if (want_lim) slot(0) = r[1];
-  }
-};
-}    // namespace
-
 template <class DeviceType>
 FixHeatFMFSKokkos<DeviceType>::FixHeatFMFSKokkos(LAMMPS *lmp, int narg, char **arg) :
     FixHeatFMFS(sphcut::require_kokkos(lmp, "Fix heat/fmfs/kk"), narg, arg), fixkk(nullptr), surfkk(nullptr)
@@ -127,14 +81,6 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   sphcut::kokkos_full_list<DeviceType>(neighbor);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
-  // the thermal dt limit goes into this fix's slot after the corrector: this fix's final_integrate
-  // must follow the mechanics fix's (else dt_limit computes it on the host's request)
-  slot_after = 0;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == fixkk) slot_after = 1;
-    if (modify->fix[i] == this) break;
-  }
-  slot_step = -1;
   surfkk = nullptr;
   if (surface) {
     surfkk = dynamic_cast<ComputeSurfaceLambdaKokkosBase *>(surface);
@@ -160,18 +106,19 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   d_dirtemp = sphcut::to_device<double, DeviceType>(dtemp.data(), nd + 1, "heat/fmfs:dirtemp");
 }
 
-/* thermal time step limit of this rank: in this fix's slot when final_integrate wrote it this step
-   (fix sph/jc-thermal/kk reads the slot with the others at its end_of_step), else (setup, another
-   Courant number, the fix before the mechanics fix) a reduction on the device here */
+/* thermal time step limit of this rank: in this fix's slot when fix sph/jc-thermal/kk's corrector
+   wrote it this step (its final_integrate reduction, the heat rules of set_heat_rules; that fix
+   reads the slot with the others at its end_of_step), else (setup, another Courant number) a
+   reduction on the device here */
 template <class DeviceType> int FixHeatFMFSKokkos<DeviceType>::dt_limit_on_device() const
 {
-  return slot_step >= 0 && slot_step == update->ntimestep && !update->setupflag;
+  return fixkk && fixkk->heat_slot_step >= 0 && fixkk->heat_slot_step == update->ntimestep && !update->setupflag;
 }
 
 template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(double, double Fc) const
 {
   if (!fixkk || d_mat.extent(0) == 0) return 1.0e300;
-  if (dt_limit_on_device() && slot_F == Fc) return 1.0e300;
+  if (dt_limit_on_device() && fixkk->heat_slot_F == Fc) return 1.0e300;
   fixkk->k_state.template sync<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
@@ -519,8 +466,9 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_c
 }
 
 /* ----------------------------------------------------------------------
-   Dirichlet groups (FixHeatFMFS::setup, final_integrate; after the predictor
-   fix sph/jc-thermal/kk sets their predicted temperature in its own kernel)
+   Dirichlet groups (FixHeatFMFS::setup; after the predictor and after the
+   corrector fix sph/jc-thermal/kk sets their temperature in its own
+   kernels, the heat through the clamp summed on the device there)
 ------------------------------------------------------------------------- */
 
 // at the setup: Dirichlet particles start at their temperature (TEMP and the predicted TEMP_F)
@@ -542,53 +490,12 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet()
   fixkk->k_state.template modify<DeviceType>();
 }
 
-template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::final_integrate()
-{
-  const int want_lim = slot_after && dt_slot >= 0 && fixkk->courant() > 0.0;
-  if (dirichlet.empty() && !want_lim) return;
-  sphcut::FencedTimer timer(cpu_time);
-  atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
-  fixkk->k_state.template sync<DeviceType>();
-  fixkk->k_dtlim.template sync<DeviceType>();
-  HeatAfterCorrector<DeviceType> k;
-  k.st = fixkk->k_state.template view<DeviceType>();
-  k.mask = atomKK->k_mask.view<DeviceType>();
-  k.type = atomKK->k_type.view<DeviceType>();
-  k.rmass = atomKK->k_rmass.view<DeviceType>();
-  k.mass = atomKK->k_mass.view<DeviceType>();
-  k.mat = d_mat;
-  k.h = d_h;
-  k.db = d_dirbit;
-  k.dtemp = d_dirtemp;
-  k.gb = groupbit;
-  k.nd = (int) dirichlet.size();
-  k.use_rmass = atom->rmass_flag;
-  k.want_lim = want_lim;
-  k.every = every;
-  k.F = fixkk->thermal_courant();
-  if (want_lim) k.slot = fixkk->dt_slot_view<DeviceType>(this);
-  if (d_qdir.extent(0) != 3) d_qdir = Kokkos::View<double *, typename DeviceType::memory_space>("heat:qdir", 3);
-  k.acc = d_qdir;
-  // the step's sums go to d_qdir(1..2); the heat is added to d_qdir(0) and the limit written into
-  // the slot on the device (final): no host round trip
-  Kokkos::parallel_reduce("sphcut:heat:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k,
-                          Kokkos::subview(d_qdir, std::make_pair(1, 3)));
-  fixkk->k_state.template modify<DeviceType>();
-  if (want_lim) {
-    fixkk->k_dtlim.template modify<DeviceType>();
-    slot_step = update->ntimestep;
-    slot_F = k.F;
-  }
-  if (!dirichlet.empty()) qdir_stale = 1;
-}
-
+// the heat the Dirichlet groups took since the last call: fix sph/jc-thermal/kk sums it on the
+// device in its corrector's reduction (the heat rules), the host reads it only here
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_dirichlet()
 {
-  if (!qdir_stale) return;
-  qdir_stale = 0;
-  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d_qdir);
-  q_dirichlet += h(0);
-  Kokkos::deep_copy(Kokkos::subview(d_qdir, 0), 0.0);
+  double q;
+  if (fixkk && fixkk->take_dirichlet_heat(q)) q_dirichlet += q;
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::write_restart(FILE *fp)

@@ -40,7 +40,6 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void init() override;
   void setup(int) override;
   void post_force(int) override;
-  void final_integrate() override;
   double compute_vector(int) override;
   void write_restart(FILE *) override;
   void post_run() override;
@@ -74,19 +73,12 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   template <int DIM> void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
   void add_held();    // setup only (during the run fix sph/jc-thermal/kk's corrector adds HELD)
   void set_dirichlet();    // setup only (during the run fix sph/jc-thermal/kk's predictor sets TEMP_F)
-  // the heat the Dirichlet groups took since the host last read it (final_integrate adds to it on
-  // the device, no host round trip per step); fetch_dirichlet adds it to q_dirichlet.  Element 0
-  // the accumulator, 1-2 final_integrate's reduction (the step's heat, the thermal dt limit)
-  Kokkos::View<double *, typename DeviceType::memory_space> d_qdir;
-  // the thermal dt limit in this fix's slot of fix sph/jc-thermal/kk (AttachedStyle::dt_slot):
-  // written by final_integrate's reduction after the corrector (the density the CPU fix's
-  // dt_limit sees at end_of_step) when the step is adaptive and this fix comes after the
-  // mechanics fix in the input (its final_integrate runs after the corrector); slot_step, slot_F:
-  // the step and thermal Courant number of the limit there
-  int slot_after = 0;
-  bigint slot_step = -1;
-  double slot_F = 0.0;
-  int qdir_stale = 0;
+  // the heat the Dirichlet groups took, summed on the device by fix sph/jc-thermal/kk's corrector
+  // (the heat rules, set_heat_rules; no host round trip per step), into q_dirichlet when the host
+  // needs it (output, restart, end of run).  The thermal dt limit in this fix's slot of that fix
+  // (AttachedStyle::dt_slot) is written by the same reduction after the corrector (the density
+  // the CPU fix's dt_limit sees at end_of_step) when the step is adaptive (heat_slot_step,
+  // heat_slot_F there: the step and thermal Courant number of the limit)
   void fetch_dirichlet();
 };
 

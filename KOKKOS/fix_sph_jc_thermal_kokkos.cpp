@@ -11,10 +11,15 @@
                         zeroing them only after reneighbouring), then the force state
                         to the ghosts by device forward communication
      final_integrate    one reduction: the heat fix's held rate into the
-                        temperature rate (add_held_rate: no kernel of the
-                        heat fix's own), corrector, radial return, plastic
-                        heat, and the sums the host needs (plastic work,
-                        this rank's Courant limit) into a device view
+                        temperature rate (add_held_rate), corrector, radial
+                        return, plastic heat, then the heat fix's Dirichlet
+                        particles back to their temperature
+                        (hold_corrected_temperature) and its thermal dt
+                        limit (no kernel of the heat fix's own), and the
+                        sums into device views: plastic work and this
+                        rank's Courant limit (k_dtlim), the Dirichlet heat
+                        (k_qdir, the heat fix reads it when it needs it),
+                        the thermal limit (the heat fix's dt slot)
      end_of_step        every dtevery-th step: that view with the attached
                         styles' dt slots to the host (the one host round
                         trip), the new dt (one MPI_Allreduce); the plastic
@@ -63,6 +68,7 @@
 #include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_solid.h"
+#include "sphcut_thermal.h"
 
 #include <algorithm>
 #include <cstring>
@@ -74,12 +80,18 @@ namespace {
 
 /* second half of the step with the two sums the host needs: the plastic
    work of the step and this rank's Courant limit (computed from the final
-   v and T, as the CPU fix does at end_of_step); reduced into the device
-   view k_dtlim (STEP_WORK, STEP_DT), no host round trip here            */
+   v and T, as the CPU fix does at end_of_step); written into the device
+   view k_dtlim (STEP_WORK, STEP_DT) by final, no host round trip here.
+   With an attached heat style's rules (set_heat_rules) two more: right
+   after each particle's corrector its Dirichlet particles go back to their
+   group's temperature, the heat that takes summed (final adds it to the
+   accumulator k_qdir), and with an adaptive step the style's thermal dt
+   limit over its group (final writes it into the style's dt slot)       */
 template <class DeviceType> struct SecondHalf {
   typedef DeviceType device_type;
   typedef double value_type[];
-  const unsigned value_count = 2;
+  enum { WORK = 0, DT = 1, QDIR = 2, HEAT_DT = 3 };
+  const unsigned value_count = 4;
   typedef ArrayTypes<DeviceType> AT;
   typename sphcut::AtomTypes<DeviceType>::v v;
   typename sphcut::AtomTypes<DeviceType>::f_const f;
@@ -90,16 +102,37 @@ template <class DeviceType> struct SecondHalf {
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
   int groupbit, toolbit, clampbit, use_rmass, want_dt, heldbit;
   double dt, dtf, cfl, vmax, tmax;
+  // the heat rules after the corrector: the style's group, its nd Dirichlet groups (dbit, dtemp),
+  // want_lim: its thermal dt limit (Courant number F, sub-cycling every) into slot; qacc: the
+  // accumulator of the Dirichlet heat
+  Kokkos::View<const int *, typename DeviceType::memory_space> dbit;
+  Kokkos::View<const double *, typename DeviceType::memory_space> dtemp;
+  Kokkos::View<double *, typename DeviceType::memory_space> qacc;
+  typename AT::t_double_1d slot;
+  int hgb, nd, want_lim, every;
+  double F;
 
-  KOKKOS_INLINE_FUNCTION void init(value_type r) const { sphcut::sum_min_init(r); }
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  {
+    sphcut::sum_min_init(&r[WORK]);
+    sphcut::sum_min_init(&r[QDIR]);
+  }
   KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
   {
-    sphcut::sum_min_join(d, s);
+    sphcut::sum_min_join(&d[WORK], &s[WORK]);
+    sphcut::sum_min_join(&d[QDIR], &s[QDIR]);
   }
   // the plastic work accumulates on the device (the result's own element holds the sum so far):
-  // the host reads it only when it needs it (a dt step, an output), with no copy on other steps
+  // the host reads it only when it needs it (a dt step, an output), with no copy on other steps;
+  // the same for the Dirichlet heat in qacc
   Kokkos::View<double *, typename DeviceType::memory_space> result;
-  KOKKOS_INLINE_FUNCTION void final(value_type r) const { r[0] += result(0); }
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const
+  {
+    result(FixSPHJCThermalKokkosBase::STEP_WORK) = r[WORK] + result(FixSPHJCThermalKokkosBase::STEP_WORK);
+    result(FixSPHJCThermalKokkosBase::STEP_DT) = r[DT];
+    if (nd) qacc(0) += r[QDIR];
+    if (want_lim) slot(0) = r[HEAT_DT];
+  }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
     if (!(mask(i) & groupbit)) return;
@@ -110,11 +143,18 @@ template <class DeviceType> struct SecondHalf {
     const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
     double *s = &state(i, 0);
     if (mask(i) & heldbit) sphcut::add_held_rate(s);    // an attached heat style's held rate
-    r[0] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
+    r[WORK] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
+    // the heat style's Dirichlet groups back to their temperature, and its thermal dt limit (its
+    // group lies inside this fix's: FixSPHJCThermal::require)
+    if (nd) r[QDIR] += sphcut::hold_corrected_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, m * mat(t).cp, s);
+    if (want_lim && (mask(i) & hgb)) {
+      const double d = sphcut::thermal_dt_limit(s[FixSPHJCThermal::RHO], mat(t).cp, mat(t).kappa, h(t), F, every);
+      if (d < r[HEAT_DT]) r[HEAT_DT] = d;
+    }
     for (int d = 0; d < 3; d++) v(i, d) = vi[d];
     if (want_dt) {
       const double d = sphcut::particle_dt(mat(t), role, h(t), vi, s[FixSPHJCThermal::TEMP], cfl, vmax, tmax);
-      if (d < r[1]) r[1] = d;
+      if (d < r[DT]) r[DT] = d;
     }
   }
 };
@@ -147,6 +187,10 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   k_dtlim.view_host()(STEP_DT) = 1.0e300;
   k_dtlim.modify_host();
   k_dtlim.template sync<DeviceType>();
+  k_qdir = DAT::tdual_double_1d("sph/jc-thermal:qdir", 1);
+  k_qdir.view_host()(0) = 0.0;
+  k_qdir.modify_host();
+  k_qdir.template sync<DeviceType>();
 }
 
 /* an attached style gets a slot of k_dtlim for its dt limit, once: a style attached again (each
@@ -167,6 +211,18 @@ void FixSPHJCThermalKokkosBase::attach(sphcut::AttachedStyle *style)
   grown.modify_host();
   grown.sync_device();
   k_dtlim = grown;
+}
+
+// the Dirichlet heat final_integrate summed on the device since the heat style last took it
+bool FixSPHJCThermalKokkosBase::take_dirichlet_heat(double &q)
+{
+  if (!qdir_pending) return false;
+  qdir_pending = 0;
+  k_qdir.sync_host();
+  q = k_qdir.view_host()(0);
+  k_qdir.view_host()(0) = 0.0;
+  k_qdir.modify_host();
+  return true;
 }
 
 // the minimum of this step's limits that the attached styles hold in their slots (host copy of
@@ -240,9 +296,10 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
 template <class DeviceType>
 void FixSPHJCThermalKokkos<DeviceType>::set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb,
                                                        const std::vector<int> &bits,
-                                                       const std::vector<double> &temps)
+                                                       const std::vector<double> &temps, int every, double *qdir)
 {
-  FixSPHJCThermal::set_heat_rules(owner, heldbit, gb, bits, temps);
+  FixSPHJCThermal::set_heat_rules(owner, heldbit, gb, bits, temps, every, qdir);
+  heat_slot_step = -1;
   std::vector<int> b(bits);
   std::vector<double> t(temps);
   b.push_back(0);
@@ -501,12 +558,35 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.cfl = cfl;
   k.vmax = vmax;
   k.tmax = tmax;
-  // into the device view (no fence): end_of_step reads it with the styles' slots
+  // the heat rules after the corrector (set_heat_rules): the Dirichlet groups and the heat style's
+  // thermal dt limit into its slot (when the step is adaptive and the slot is this fix's)
+  const sphcut::AttachedStyle *hs = heat_rules.owner;
+  k.dbit = d_dirbit;
+  k.dtemp = d_dirtemp;
+  k.hgb = heat_rules.gb;
+  k.nd = (int) heat_rules.bits.size();
+  k.want_lim = cfl > 0.0 && hs && hs->dt_slot >= 0 && hs->dt_slot < (int) slot_owner.size() &&
+      slot_owner[hs->dt_slot] == hs;
+  k.every = heat_rules.every;
+  k.F = thermal_cfl;
   k_dtlim.template sync<DeviceType>();
+  if (k.want_lim) k.slot = dt_slot_view<DeviceType>(hs);
+  if (k.nd) k_qdir.template sync<DeviceType>();
+  k.qacc = k_qdir.template view<DeviceType>();
+  // into the device views (no fence): final writes the sums into k_dtlim, the heat style's slot
+  // and k_qdir; end_of_step reads k_dtlim with the styles' slots
   k.result = k_dtlim.template view<DeviceType>();
-  Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k,
-                          Kokkos::subview(k_dtlim.template view<DeviceType>(), std::make_pair(0, (int) SLOT0)));
+  if (d_second.extent(0) != 4) d_second = Kokkos::View<double *, typename DeviceType::memory_space>("sph:second", 4);
+  Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k, d_second);
   k_dtlim.template modify<DeviceType>();
+  if (k.nd) {
+    k_qdir.template modify<DeviceType>();
+    qdir_pending = 1;
+  }
+  if (k.want_lim) {
+    heat_slot_step = update->ntimestep;
+    heat_slot_F = thermal_cfl;
+  }
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
 }

@@ -51,6 +51,16 @@ class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
   }
   double courant() const { return cfl; }
   double thermal_courant() const { return thermal_cfl; }
+  // an attached heat style's rules after the corrector (set_heat_rules), applied in
+  // final_integrate's reduction: the heat its Dirichlet groups took since the style last took it
+  // (k_qdir(0), summed on the device, no host copy per step; take_dirichlet_heat: false when none
+  // was added since, else the heat into q and the accumulator zeroed), and the step and thermal
+  // Courant number of the thermal dt limit the reduction last wrote into the style's dt slot
+  DAT::tdual_double_1d k_qdir;
+  int qdir_pending = 0;
+  bool take_dirichlet_heat(double &q);
+  bigint heat_slot_step = -1;
+  double heat_slot_F = 0.0;
   // FixSPHJCThermal::attach, and a slot of k_dtlim for the style
   void attach(sphcut::AttachedStyle *style) override;
 
@@ -109,7 +119,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void report_runaway() override;
   // the heat rules on the device too (the Dirichlet table: d_dirbit, d_dirtemp)
   void set_heat_rules(const sphcut::AttachedStyle *, int, int, const std::vector<int> &,
-                      const std::vector<double> &) override;
+                      const std::vector<double> &, int, double *) override;
 
   // the state follows its atoms by tag on the device, on any number of ranks (no host
   // exchange, see .cpp; keyword migrate device)
@@ -133,6 +143,8 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   t_h d_h;                     // smoothing length per type
   Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;       // heat_rules.bits on the device
   Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;   // heat_rules.temps
+  Kokkos::View<double *, typename DeviceType::memory_space> d_second;    // final_integrate's reduction (its final
+                                                                         // writes the sums where they go)
   void upload_tables();
   void sync_host_state() { k_state.sync_host(); }
   void modified_host_state() { k_state.modify_host(); }

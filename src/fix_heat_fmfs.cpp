@@ -142,11 +142,12 @@ FixHeatFMFS::~FixHeatFMFS()
   memory->destroy(fwts);
 }
 
-// (the Dirichlet temperatures after the predictor and the held rate on ordinary steps are applied
-// by fix sph/jc-thermal in its own passes: set_heat_rules in init)
+// (the Dirichlet temperatures after the predictor and after the corrector, with the heat through
+// the clamp, and the held rate on ordinary steps are applied by fix sph/jc-thermal in its own
+// passes: set_heat_rules in init)
 int FixHeatFMFS::setmask()
 {
-  return POST_FORCE | FINAL_INTEGRATE;
+  return POST_FORCE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -156,14 +157,16 @@ void FixHeatFMFS::init()
   fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &model);
   fix->attach(this);
   // the integrator adds the held rate (HELD) of this group to the temperature rate before its
-  // corrector, and sets the predicted temperature of the Dirichlet groups after its predictor
+  // corrector, sets the predicted temperature of the Dirichlet groups after its predictor and
+  // their temperature after its corrector, the heat that takes into q_dirichlet (/kk: into a device
+  // accumulator, fetched by this fix's /kk variant), and (/kk) this fix's thermal dt limit
   std::vector<int> dbits;
   std::vector<double> dtemps;
   for (const auto &d : dirichlet) {
     dbits.push_back(d.groupbit);
     dtemps.push_back(d.temp);
   }
-  fix->set_heat_rules(this, groupbit, groupbit, dbits, dtemps);
+  fix->set_heat_rules(this, groupbit, groupbit, dbits, dtemps, every, &q_dirichlet);
   // Dirichlet temperatures are imposed after the temperature update of that fix
   int ifix = -1, ime = -1, ninst = 0;
   for (int i = 0; i < modify->nfix; i++) {
@@ -623,33 +626,16 @@ void FixHeatFMFS::add_heat(int i, double power)
 }
 
 /* ----------------------------------------------------------------------
-   after the temperature update: Dirichlet particles back to their
-   temperature; the energy that takes is the heat through the clamp.
-   Their rate is kept (and their predicted temperature reset to T_D in
-   initial_integrate), so the corrector moved them by dt/2 (old + new
-   rate), the same trapezoidal weights as their neighbours' exchange with
-   them: with a conservative scheme element 3 equals the energy change.
+   after the temperature update, Dirichlet particles go back to their
+   temperature; the energy that takes is the heat through the clamp
+   (element 3).  Fix sph/jc-thermal does it in its corrector's loop, right
+   after each particle's corrector (sphcut::hold_corrected_temperature,
+   set_heat_rules), adding the heat to q_dirichlet.  Their rate is kept
+   (and their predicted temperature reset to T_D after the predictor), so
+   the corrector moved them by dt/2 (old + new rate), the same trapezoidal
+   weights as their neighbours' exchange with them: with a conservative
+   scheme element 3 equals the energy change.
 ------------------------------------------------------------------------- */
-
-void FixHeatFMFS::final_integrate()
-{
-  using F = FixSPHJCThermal;
-  if (dirichlet.empty()) return;
-  const Material *mat = model->materials();
-  for (int i = 0; i < atom->nlocal; i++) {
-    const int k = dirichlet_of(atom->mask[i]);
-    if (k < 0) continue;
-    double *s = fix->state[i];
-    const double m = atom->rmass ? atom->rmass[i] : atom->mass[atom->type[i]];
-    // the temperature update moved T by dt/2 (rate_old + rate_new): that heat went through the clamp
-    q_dirichlet += m * mat[atom->type[i]].cp * (dirichlet[k].temp - s[F::TEMP]);
-    s[F::TEMP] = dirichlet[k].temp;
-  }
-}
-
-// after the predictor of fix sph/jc-thermal, Dirichlet particles keep their temperature: that fix
-// sets their predicted temperature itself (sphcut::hold_predicted_temperature, set_heat_rules); their
-// rate is kept, so the next corrector books the flux with trapezoidal weights
 
 /* ----------------------------------------------------------------------
    global vector: 1 heat lost by convection, 2 by radiation, 3 heat entering

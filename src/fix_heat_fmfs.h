@@ -37,7 +37,6 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   void init_list(int, class NeighList *) override;
   void setup(int) override;
   void post_force(int) override;
-  void final_integrate() override;
   double compute_vector(int) override;
   void write_restart(FILE *) override;
   double memory_usage() override;

@@ -390,14 +390,20 @@ void FixSPHJCThermal::final_integrate()
   const int nlocal = atom->nlocal;
   const Material *mat = model->materials();
 
-  // an attached heat style's held rate (set_heat_rules) joins the temperature rate first
-  const int heldbit = heat_rules.heldbit;
+  // an attached heat style's rules (set_heat_rules): its held rate joins the temperature rate
+  // first; after the corrector its Dirichlet particles go back to their temperature, the heat that
+  // takes into the style's budget (its group lies inside this fix's: FixSPHJCThermal::require)
+  const HeatRules &hr = heat_rules;
+  const int heldbit = hr.heldbit, nd = (int) hr.bits.size();
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     if (mask[i] & heldbit) sphcut::add_held_rate(state[i]);
     const double m = rmass ? rmass[i] : mass[type[i]];
     plastic_work += sphcut::integrate_second_half(mat[type[i]], role_of(mask[i]), dtv, dtf / m, m,
                                                   v[i], f[i], state[i]);
+    if (nd)    // (0 for the other particles: the sum is the same number)
+      *hr.qdir += sphcut::hold_corrected_temperature(mask[i], hr.gb, hr.bits.data(), hr.temps.data(), nd,
+                                                     m * mat[type[i]].cp, state[i]);
   }
 }
 
@@ -609,8 +615,10 @@ void FixSPHJCThermal::attach(sphcut::AttachedStyle *style)
 }
 
 void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb,
-                                     const std::vector<int> &bits, const std::vector<double> &temps)
+                                     const std::vector<int> &bits, const std::vector<double> &temps, int every,
+                                     double *qdir)
 {
+  if (!bits.empty() && !qdir) error->all(FLERR, "Fix sph/jc-thermal: Dirichlet groups without a heat budget");
   if (bits.size() != temps.size())
     error->all(FLERR, "Fix sph/jc-thermal: {} Dirichlet groups with {} temperatures", bits.size(), temps.size());
   heat_rules.owner = owner;
@@ -618,6 +626,8 @@ void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int hel
   heat_rules.gb = gb;
   heat_rules.bits = bits;
   heat_rules.temps = temps;
+  heat_rules.every = every;
+  heat_rules.qdir = qdir;
 }
 
 // the attached styles that still exist (a style may be deleted between runs; a run with
@@ -636,7 +646,7 @@ void FixSPHJCThermal::prune_attached()
   timed.swap(kept);
   // the heat rules of a style deleted since
   if (heat_rules.owner && std::find(live.begin(), live.end(), heat_rules.owner) == live.end())
-    set_heat_rules(nullptr, 0, 0, {}, {});
+    set_heat_rules(nullptr, 0, 0, {}, {}, 1, nullptr);
 }
 
 void FixSPHJCThermal::reset_timers()

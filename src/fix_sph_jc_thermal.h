@@ -73,10 +73,14 @@ class FixSPHJCThermal : public Fix,
   // fix applies for it in its own per-particle passes (sphcut_solid.h), so that the style runs no
   // pass of its own on an ordinary step: heldbit, the group whose held rate (column HELD) joins
   // the temperature rate before the corrector; gb, bits, temps: its group and Dirichlet groups,
-  // whose predicted temperature the predictor sets.  One owner (the last to call); dropped when
-  // the owner is deleted (prune_attached).
+  // whose predicted temperature the predictor sets and whose temperature the corrector's loop
+  // sets back after the corrector, adding the heat that takes to *qdir (the style's Dirichlet
+  // budget; /kk: to a device accumulator instead, take_dirichlet_heat); every: the style's
+  // sub-cycling (/kk: the corrector's reduction also writes the style's thermal dt limit over gb
+  // into the style's dt slot).  One owner (the last to call); dropped when the owner is deleted
+  // (prune_attached).
   virtual void set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb, const std::vector<int> &bits,
-                              const std::vector<double> &temps);
+                              const std::vector<double> &temps, int every, double *qdir);
   // for the other sphcut styles: the model (of the pair style) and this fix, or an error that
   // names `who` (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
   static FixSPHJCThermal *require(class LAMMPS *lmp, const std::string &who, int groupbit,
@@ -105,6 +109,8 @@ class FixSPHJCThermal : public Fix,
     int heldbit = 0, gb = 0;
     std::vector<int> bits;
     std::vector<double> temps;
+    int every = 1;               // the owner's sub-cycling (its thermal dt limit)
+    double *qdir = nullptr;      // the owner's Dirichlet heat (CPU: the corrector's loop adds to it)
   } heat_rules;
   int grow_callback = 1;      // the state migrates through Atom's grow callback (/kk on one rank: no)
   void initialize_atom(int);

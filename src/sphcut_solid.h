@@ -7,7 +7,8 @@
        1989), predictor y* = y^n + dt f^n of rho, s, T, radial return;
      rates       (pre_force): zeroed, then the pair and the heat sources add;
      heat rules  of an attached heat style: Dirichlet temperatures after the
-       predictor, the held conduction rate before the corrector;
+       predictor and after the corrector (with the heat that takes), the held
+       conduction rate before the corrector;
      second half (final_integrate): kick, corrector y^{n+1} = y^n + dt/2
        (f^n + f^{n+1}) of rho, s, u, T, radial return, plastic heat chi W_p;
      time step   the stable dt of the particle (mechanics, conduction).
@@ -89,7 +90,12 @@ SPHCUT_INLINE void integrate_first_half(const Material &mt, int role, double dt,
                        the step first uses that rate, the corrector (add_held_rate, before
                        integrate_second_half).  The other heat sources (the contact's friction heat)
                        add to DTEMP before; with at most one of them per particle (one contact fix)
-                       the sum is the same number as when the style added HELD first            */
+                       the sum is the same number as when the style added HELD first
+     Dirichlet groups  after the corrector (right after integrate_second_half) a Dirichlet particle's
+                       temperature goes back to its group's; the heat that takes, m cp (T_D - T), is
+                       the heat through the clamp (hold_corrected_temperature; the integrator sums it
+                       for the style's budget).  With an adaptive step the integrator also takes the
+                       style's thermal dt limit over its group there (sphcut_thermal.h)          */
 
 // Dirichlet group of a particle: the first of the n group bits its mask holds (-1: none, or the
 // particle is outside the style's group gb)
@@ -107,6 +113,20 @@ SPHCUT_INLINE void hold_predicted_temperature(int mask, int gb, const int *bits,
 {
   const int k = dirichlet_index(mask, gb, bits, n);
   if (k >= 0) s[SL::TEMP_F] = temps[k];
+}
+
+// after the corrector: a Dirichlet particle's temperature back to its group's temperature temps[k];
+// returns the heat this takes, mcp (T_D - T) with mcp = m cp of the particle (0: not a Dirichlet
+// particle).  The corrector moved T by dt/2 (rate_old + rate_new), the same trapezoidal weights as
+// the neighbours' exchange with the particle: the sum is the heat through the clamp
+SPHCUT_INLINE double hold_corrected_temperature(int mask, int gb, const int *bits, const double *temps, int n,
+                                                double mcp, double *s)
+{
+  const int k = dirichlet_index(mask, gb, bits, n);
+  if (k < 0) return 0.0;
+  const double q = mcp * (temps[k] - s[SL::TEMP]);
+  s[SL::TEMP] = temps[k];
+  return q;
 }
 
 // before the corrector: the held rate joins the temperature rate of the step
