@@ -592,6 +592,44 @@ void count_launch(const char *name, const uint32_t, uint64_t *id)
   }
 }
 void no_end(uint64_t) {}
+std::map<std::string, int> scans;    // parallel_scan launches by name (setups: "setup " + name)
+int sums_fills = 0;                  // fills of the contact fix's sums (deep_copy of a scalar)
+void count_scan(const char *name, const uint32_t, uint64_t *id)
+{
+  *id = 0;
+  if (!counted) return;
+  scans[(counted->update->setupflag ? "setup " : "") + std::string(name)]++;
+}
+void count_copy(Kokkos::Tools::SpaceHandle, const char *dst, const void *, Kokkos::Tools::SpaceHandle,
+                const char *src, const void *, uint64_t)
+{
+  if (std::string(dst) == "contact:sums" && std::string(src) == "Scalar") sums_fills++;
+}
+
+// counts the launches, scans and copies of lmp (the callbacks above) while it lives
+struct CountLaunches {
+  explicit CountLaunches(LAMMPS_NS::LAMMPS *lmp)
+  {
+    counted = lmp;
+    set(true);
+  }
+  ~CountLaunches()
+  {
+    set(false);
+    counted = nullptr;
+  }
+  static void set(bool on)
+  {
+    using namespace Kokkos::Tools::Experimental;
+    set_begin_parallel_for_callback(on ? count_launch : nullptr);
+    set_begin_parallel_reduce_callback(on ? count_launch : nullptr);
+    set_begin_parallel_scan_callback(on ? count_scan : nullptr);
+    set_end_parallel_for_callback(on ? no_end : nullptr);
+    set_end_parallel_reduce_callback(on ? no_end : nullptr);
+    set_end_parallel_scan_callback(on ? no_end : nullptr);
+    set_begin_deep_copy_callback(on ? count_copy : nullptr);
+  }
+};
 }    // namespace
 
 // an ordinary step of the heat fix launches no kernel of its own under /kk: the held rate joins
@@ -611,17 +649,10 @@ TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
           "fix sph all sph/jc-thermal temp 300 cfl 0.3", "fix heat all heat/fmfs every 5 dirichlet bot 900",
           "thermo 0", "run 0"});
   launches.clear();
-  counted = l.lmp;
-  Kokkos::Tools::Experimental::set_begin_parallel_for_callback(count_launch);
-  Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(count_launch);
-  Kokkos::Tools::Experimental::set_end_parallel_for_callback(no_end);
-  Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(no_end);
-  l.cmd("run 20");
-  Kokkos::Tools::Experimental::set_begin_parallel_for_callback(nullptr);
-  Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(nullptr);
-  Kokkos::Tools::Experimental::set_end_parallel_for_callback(nullptr);
-  Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(nullptr);
-  counted = nullptr;
+  {
+    CountLaunches count(l.lmp);
+    l.cmd("run 20");
+  }
   int heat = 0;
   for (auto &n : launches)
     if (n.first.rfind("sphcut:heat:", 0) == 0) {
@@ -638,22 +669,6 @@ TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
   EXPECT_EQ(launches["sphcut:heat:set_dirichlet"], 0);
   EXPECT_GT(l.equal("f_heat[3]"), 0.0);    // heat entered through the hot Dirichlet layer
 }
-
-namespace {
-std::map<std::string, int> scans;    // parallel_scan launches by name (setups: "setup " + name)
-int sums_fills = 0;                  // fills of the contact fix's sums (deep_copy of a scalar)
-void count_scan(const char *name, const uint32_t, uint64_t *id)
-{
-  *id = 0;
-  if (!counted) return;
-  scans[(counted->update->setupflag ? "setup " : "") + std::string(name)]++;
-}
-void count_copy(Kokkos::Tools::SpaceHandle, const char *dst, const void *, Kokkos::Tools::SpaceHandle,
-                const char *src, const void *, uint64_t)
-{
-  if (std::string(dst) == "contact:sums" && std::string(src) == "Scalar") sums_fills++;
-}
-}    // namespace
 
 // the launches of fix contact/tri-penalty/kk in the 2D cut with thermal tool particles: per
 // ordinary step the contact reduction and, with the tool beside the workpiece (xstart 0.6), the
@@ -673,23 +688,10 @@ TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
     scans.clear();
     sums_fills = 0;
     max_builds = 0;
-    counted = l.lmp;
-    Kokkos::Tools::Experimental::set_begin_parallel_for_callback(count_launch);
-    Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(count_launch);
-    Kokkos::Tools::Experimental::set_end_parallel_for_callback(no_end);
-    Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(no_end);
-    Kokkos::Tools::Experimental::set_begin_parallel_scan_callback(count_scan);
-    Kokkos::Tools::Experimental::set_end_parallel_scan_callback(no_end);
-    Kokkos::Tools::Experimental::set_begin_deep_copy_callback(count_copy);
-    l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
-    Kokkos::Tools::Experimental::set_begin_parallel_for_callback(nullptr);
-    Kokkos::Tools::Experimental::set_begin_parallel_reduce_callback(nullptr);
-    Kokkos::Tools::Experimental::set_end_parallel_for_callback(nullptr);
-    Kokkos::Tools::Experimental::set_end_parallel_reduce_callback(nullptr);
-    Kokkos::Tools::Experimental::set_begin_parallel_scan_callback(nullptr);
-    Kokkos::Tools::Experimental::set_end_parallel_scan_callback(nullptr);
-    Kokkos::Tools::Experimental::set_begin_deep_copy_callback(nullptr);
-    counted = nullptr;
+    {
+      CountLaunches count(l.lmp);
+      l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+    }
     const char *what = near ? "tool near" : "tool away";
     for (auto &n : launches)
       if (n.first.rfind("sphcut:contact:", 0) == 0)
