@@ -195,6 +195,15 @@ breakdown() {
        END{if (f) last = buf; printf "%s", last}' $lg | sed 's/^/      /' >> "$SUM"
 }
 
+# one scaling run's line: $1 label, $2 tag, $3 GPUs, $4 the 1-GPU rate of the call (may be empty);
+# strong: t1 / (N tN) = rate_N / (N rate_1); weak (N times the particles): the same ratio
+report() {
+  local label=$1 tag=$2 n=$3 r1=$4 eff="n/a (no 1-GPU run)"
+  [ -n "$r1" ] && eff=$(awk -v a=$r1 -v b=$(rate_of log.$tag) -v n=$n 'BEGIN{printf "%.0f %%", 100*b/(n*a)}')
+  say "$label: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.$tag), efficiency $eff"
+  breakdown log.$tag
+}
+
 scaling() {
   local kind=$1
   mkdir -p $W/scale; cd $W/scale
@@ -207,13 +216,8 @@ scaling() {
       [ $kind = weak ] && nz=$(( nz0 * n ))
       local tag=$kind.$mode.$n
       scale_run $n $mode $nz $tag || continue
-      local r; r=$(rate_of log.$tag)
-      [ -z "$r1" ] && [ "$n" -eq 1 ] && r1=$r
-      # strong: t1 / (N tN) = rate_N / (N rate_1); weak (N times the particles): the same ratio
-      local eff="n/a (no 1-GPU run)"
-      [ -n "$r1" ] && eff=$(awk -v a=$r1 -v b=$r -v n=$n 'BEGIN{printf "%.0f %%", 100*b/(n*a)}')
-      say "$kind migrate $mode, $n GPU(s), nz $nz: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.$tag), efficiency $eff"
-      breakdown log.$tag
+      [ -z "$r1" ] && [ "$n" -eq 1 ] && r1=$(rate_of log.$tag)
+      report "$kind migrate $mode, $n GPU(s), nz $nz" $tag $n "$r1"
     done
   done
   # the cost of a reneighbouring with the classic host path against the device migration
@@ -243,11 +247,7 @@ classic() {
     [ "$n" -gt 1 ] && [ "$n" -le "$NGPU" ] || continue
     local tag=strong.classic.$n
     SPHCUT_LAMMPS_CLASSIC_FORWARD=1 scale_run $n device ${NZ:-232} $tag || continue
-    local r; r=$(rate_of log.$tag)
-    local eff="n/a (no 1-GPU run)"
-    [ -n "$r1" ] && eff=$(awk -v a=$r1 -v b=$r -v n=$n 'BEGIN{printf "%.0f %%", 100*b/(n*a)}')
-    say "strong, LAMMPS' classic host forward communication, $n GPU(s): $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.$tag), efficiency $eff"
-    breakdown log.$tag
+    report "strong, LAMMPS' classic host forward communication, $n GPU(s)" $tag $n "$r1"
   done
   cd "$ROOT"
 }
