@@ -95,15 +95,13 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
   d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "heat/fmfs:tp");
-  const int nd = (int) dirichlet.size();
-  std::vector<int> db(nd + 1, 0);
-  std::vector<double> dtemp(nd + 1, 0.0);
-  for (int k = 0; k < nd; k++) {
-    db[k] = dirichlet[k].groupbit;
-    dtemp[k] = dirichlet[k].temp;
-  }
-  d_dirbit = sphcut::to_device<int, DeviceType>(db.data(), nd + 1, "heat/fmfs:dirbit");
-  d_dirtemp = sphcut::to_device<double, DeviceType>(dtemp.data(), nd + 1, "heat/fmfs:dirtemp");
+  // (one element more: never empty)
+  std::vector<int> db(dir_bits);
+  std::vector<double> dtemp(dir_temps);
+  db.push_back(0);
+  dtemp.push_back(0.0);
+  d_dirbit = sphcut::to_device<int, DeviceType>(db.data(), (int) db.size(), "heat/fmfs:dirbit");
+  d_dirtemp = sphcut::to_device<double, DeviceType>(dtemp.data(), (int) dtemp.size(), "heat/fmfs:dirtemp");
 }
 
 /* thermal time step limit of this rank: in this fix's slot when fix sph/jc-thermal/kk's corrector
@@ -142,7 +140,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(doubl
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 {
   check_timestep();
-  if (!dirichlet.empty()) {
+  if (!dir_bits.empty()) {
     set_dirichlet();    // Dirichlet particles start at their temperature
     sphcut::forward_comm(comm, fix);
   }
@@ -480,7 +478,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet()
   auto mask = atomKK->k_mask.view<DeviceType>();
   auto db = d_dirbit;
   auto dtemp = d_dirtemp;
-  const int gb = groupbit, nd = (int) dirichlet.size();
+  const int gb = groupbit, nd = (int) dir_bits.size();
   Kokkos::parallel_for("sphcut:heat:set_dirichlet",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         const int k = sphcut::dirichlet_index(mask(i), gb, &db(0), nd);

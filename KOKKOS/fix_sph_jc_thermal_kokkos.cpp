@@ -100,7 +100,7 @@ template <class DeviceType> struct SecondHalf {
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
-  int groupbit, toolbit, clampbit, use_rmass, want_dt, heldbit;
+  int groupbit, toolbit, clampbit, use_rmass, want_dt;
   double dt, dtf, cfl, vmax, tmax;
   // the heat rules after the corrector: the style's group, its nd Dirichlet groups (dbit, dtemp),
   // want_lim: its thermal dt limit (Courant number F, sub-cycling every) into slot; qacc: the
@@ -142,7 +142,7 @@ template <class DeviceType> struct SecondHalf {
     double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
     const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
     double *s = &state(i, 0);
-    if (mask(i) & heldbit) sphcut::add_held_rate(s);    // an attached heat style's held rate
+    if (mask(i) & hgb) sphcut::add_held_rate(s);    // an attached heat style's held rate
     r[WORK] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
     // the heat style's Dirichlet groups back to their temperature, and its thermal dt limit (its
     // group lies inside this fix's: FixSPHJCThermal::require)
@@ -294,11 +294,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
 
 // the Dirichlet table of the heat rules to the device (one element more: never empty)
 template <class DeviceType>
-void FixSPHJCThermalKokkos<DeviceType>::set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb,
+void FixSPHJCThermalKokkos<DeviceType>::set_heat_rules(const sphcut::AttachedStyle *owner, int gb,
                                                        const std::vector<int> &bits,
                                                        const std::vector<double> &temps, int every, double *qdir)
 {
-  FixSPHJCThermal::set_heat_rules(owner, heldbit, gb, bits, temps, every, qdir);
+  FixSPHJCThermal::set_heat_rules(owner, gb, bits, temps, every, qdir);
   heat_slot_step = -1;
   std::vector<int> b(bits);
   std::vector<double> t(temps);
@@ -550,7 +550,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.groupbit = groupbit;
   k.toolbit = toolbit;
   k.clampbit = clampbit;
-  k.heldbit = heat_rules.heldbit;
   k.use_rmass = atom->rmass_flag;
   k.want_dt = cfl > 0.0;
   k.dt = dtv;

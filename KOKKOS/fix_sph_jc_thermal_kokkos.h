@@ -118,7 +118,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void check_close_pairs() override;
   void report_runaway() override;
   // the heat rules on the device too (the Dirichlet table: d_dirbit, d_dirtemp)
-  void set_heat_rules(const sphcut::AttachedStyle *, int, int, const std::vector<int> &,
+  void set_heat_rules(const sphcut::AttachedStyle *, int, const std::vector<int> &,
                       const std::vector<double> &, int, double *) override;
 
   // the state follows its atoms by tag on the device, on any number of ranks (no host

@@ -116,7 +116,8 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
       if (ig < 0) error->all(FLERR, "Fix heat/fmfs: dirichlet group {} does not exist", arg[iarg + 1]);
       const double t = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
       if (t < 0.0) error->all(FLERR, "Fix heat/fmfs: dirichlet temperature must be >= 0, got {}", t);
-      dirichlet.push_back({group->bitmask[ig], t});
+      dir_bits.push_back(group->bitmask[ig]);
+      dir_temps.push_back(t);
       iarg += 3;
     } else {
       error->all(FLERR, "Fix heat/fmfs: unknown keyword {}", kw);
@@ -160,13 +161,7 @@ void FixHeatFMFS::init()
   // corrector, sets the predicted temperature of the Dirichlet groups after its predictor and
   // their temperature after its corrector, the heat that takes into q_dirichlet (/kk: into a device
   // accumulator, fetched by this fix's /kk variant), and (/kk) this fix's thermal dt limit
-  std::vector<int> dbits;
-  std::vector<double> dtemps;
-  for (const auto &d : dirichlet) {
-    dbits.push_back(d.groupbit);
-    dtemps.push_back(d.temp);
-  }
-  fix->set_heat_rules(this, groupbit, groupbit, dbits, dtemps, every, &q_dirichlet);
+  fix->set_heat_rules(this, groupbit, dir_bits, dir_temps, every, &q_dirichlet);
   // Dirichlet temperatures are imposed after the temperature update of that fix
   int ifix = -1, ime = -1, ninst = 0;
   for (int i = 0; i < modify->nfix; i++) {
@@ -209,10 +204,7 @@ void FixHeatFMFS::init_list(int, NeighList *ptr)
 
 int FixHeatFMFS::dirichlet_of(int mask) const
 {
-  if (!(mask & groupbit)) return -1;
-  for (size_t k = 0; k < dirichlet.size(); k++)
-    if (mask & dirichlet[k].groupbit) return (int) k;
-  return -1;
+  return sphcut::dirichlet_index(mask, groupbit, dir_bits.data(), (int) dir_bits.size());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -253,7 +245,7 @@ void FixHeatFMFS::setup(int vflag)
     const int k = dirichlet_of(atom->mask[i]);
     if (k < 0) continue;
     double *s = fix->state[i];
-    s[F::TEMP] = s[F::TEMP_F] = dirichlet[k].temp;
+    s[F::TEMP] = s[F::TEMP_F] = dir_temps[k];
   }
   sphcut::forward_comm(comm, fix);
   // the rate of the Dirichlet particles is kept (not zeroed): the first corrector needs it

@@ -69,11 +69,8 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   ComputeSurfaceLambda *surface;
   double hconv, tconv;          // convection coefficient and ambient temperature
   double emiss, trad;           // emissivity and ambient temperature of radiation
-  struct Dirichlet {
-    int groupbit;
-    double temp;
-  };
-  std::vector<Dirichlet> dirichlet;
+  std::vector<int> dir_bits;        // the Dirichlet groups (keyword dirichlet) and their temperatures,
+  std::vector<double> dir_temps;    // as fix sph/jc-thermal's heat rules take them (sphcut::dirichlet_index)
   // energy budget (energy units, summed over this rank; reduced on output)
   double q_conv, q_rad, q_dirichlet, q_sources;
   bigint n_fmfs, n_brookshaw, n_fallback;    // counters of this rank

@@ -394,10 +394,10 @@ void FixSPHJCThermal::final_integrate()
   // first; after the corrector its Dirichlet particles go back to their temperature, the heat that
   // takes into the style's budget (its group lies inside this fix's: FixSPHJCThermal::require)
   const HeatRules &hr = heat_rules;
-  const int heldbit = hr.heldbit, nd = (int) hr.bits.size();
+  const int nd = (int) hr.bits.size();
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    if (mask[i] & heldbit) sphcut::add_held_rate(state[i]);
+    if (mask[i] & hr.gb) sphcut::add_held_rate(state[i]);
     const double m = rmass ? rmass[i] : mass[type[i]];
     plastic_work += sphcut::integrate_second_half(mat[type[i]], role_of(mask[i]), dtv, dtf / m, m,
                                                   v[i], f[i], state[i]);
@@ -614,7 +614,7 @@ void FixSPHJCThermal::attach(sphcut::AttachedStyle *style)
   if (std::find(timed.begin(), timed.end(), style) == timed.end()) timed.push_back(style);
 }
 
-void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb,
+void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int gb,
                                      const std::vector<int> &bits, const std::vector<double> &temps, int every,
                                      double *qdir)
 {
@@ -622,7 +622,6 @@ void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int hel
   if (bits.size() != temps.size())
     error->all(FLERR, "Fix sph/jc-thermal: {} Dirichlet groups with {} temperatures", bits.size(), temps.size());
   heat_rules.owner = owner;
-  heat_rules.heldbit = heldbit;
   heat_rules.gb = gb;
   heat_rules.bits = bits;
   heat_rules.temps = temps;
@@ -646,7 +645,7 @@ void FixSPHJCThermal::prune_attached()
   timed.swap(kept);
   // the heat rules of a style deleted since
   if (heat_rules.owner && std::find(live.begin(), live.end(), heat_rules.owner) == live.end())
-    set_heat_rules(nullptr, 0, 0, {}, {}, 1, nullptr);
+    set_heat_rules(nullptr, 0, {}, {}, 1, nullptr);
 }
 
 void FixSPHJCThermal::reset_timers()

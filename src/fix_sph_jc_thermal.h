@@ -71,15 +71,14 @@ class FixSPHJCThermal : public Fix,
   void attach(sphcut::AttachedStyle *style) override;
   // an attached heat style (fix heat/fmfs, in its init) hands over the temperature rules that this
   // fix applies for it in its own per-particle passes (sphcut_solid.h), so that the style runs no
-  // pass of its own on an ordinary step: heldbit, the group whose held rate (column HELD) joins
-  // the temperature rate before the corrector; gb, bits, temps: its group and Dirichlet groups,
-  // whose predicted temperature the predictor sets and whose temperature the corrector's loop
+  // pass of its own on an ordinary step: gb, its group, whose held rate (column HELD) joins the
+  // temperature rate before the corrector; bits, temps: its Dirichlet groups, whose predicted temperature the predictor sets and whose temperature the corrector's loop
   // sets back after the corrector, adding the heat that takes to *qdir (the style's Dirichlet
   // budget; /kk: to a device accumulator instead, take_dirichlet_heat); every: the style's
   // sub-cycling (/kk: the corrector's reduction also writes the style's thermal dt limit over gb
   // into the style's dt slot).  One owner (the last to call); dropped when the owner is deleted
   // (prune_attached).
-  virtual void set_heat_rules(const sphcut::AttachedStyle *owner, int heldbit, int gb, const std::vector<int> &bits,
+  virtual void set_heat_rules(const sphcut::AttachedStyle *owner, int gb, const std::vector<int> &bits,
                               const std::vector<double> &temps, int every, double *qdir);
   // for the other sphcut styles: the model (of the pair style) and this fix, or an error that
   // names `who` (also when atoms of `groupbit`, group `gname`, lie outside the group of this fix)
@@ -106,7 +105,7 @@ class FixSPHJCThermal : public Fix,
   std::vector<sphcut::AttachedStyle *> timed;    // attached styles, this run
   struct HeatRules {                              // set_heat_rules
     const sphcut::AttachedStyle *owner = nullptr;
-    int heldbit = 0, gb = 0;
+    int gb = 0;                  // the owner's group (0: no rules)
     std::vector<int> bits;
     std::vector<double> temps;
     int every = 1;               // the owner's sub-cycling (its thermal dt limit)
