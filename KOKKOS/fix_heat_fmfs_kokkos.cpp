@@ -95,13 +95,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "heat/fmfs:hij");
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
   d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "heat/fmfs:tp");
-  // (one element more: never empty)
-  std::vector<int> db(dir_bits);
-  std::vector<double> dtemp(dir_temps);
-  db.push_back(0);
-  dtemp.push_back(0.0);
-  d_dirbit = sphcut::to_device<int, DeviceType>(db.data(), (int) db.size(), "heat/fmfs:dirbit");
-  d_dirtemp = sphcut::to_device<double, DeviceType>(dtemp.data(), (int) dtemp.size(), "heat/fmfs:dirtemp");
+  sphcut::dirichlet_to_device<DeviceType>(dir_bits, dir_temps, "heat/fmfs", d_dirbit, d_dirtemp);
 }
 
 /* thermal time step limit of this rank: in this fix's slot when fix sph/jc-thermal/kk's corrector

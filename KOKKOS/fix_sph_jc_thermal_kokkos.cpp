@@ -300,12 +300,7 @@ void FixSPHJCThermalKokkos<DeviceType>::set_heat_rules(const sphcut::AttachedSty
 {
   FixSPHJCThermal::set_heat_rules(owner, gb, bits, temps, every, qdir);
   heat_slot_step = -1;
-  std::vector<int> b(bits);
-  std::vector<double> t(temps);
-  b.push_back(0);
-  t.push_back(0.0);
-  d_dirbit = sphcut::to_device<int, DeviceType>(b.data(), (int) b.size(), "sph/jc-thermal:dirbit");
-  d_dirtemp = sphcut::to_device<double, DeviceType>(t.data(), (int) t.size(), "sph/jc-thermal:dirtemp");
+  sphcut::dirichlet_to_device<DeviceType>(bits, temps, "sph/jc-thermal", d_dirbit, d_dirtemp);
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::upload_tables()

@@ -17,6 +17,7 @@
 
 #include <mpi.h>
 #include <string>
+#include <vector>
 
 // The KOKKOS API of LAMMPS changed between the two versions the /kk styles compile against:
 //   29Sep2021 (Kokkos 3.4, built and run): forward communication of fixes through
@@ -76,6 +77,19 @@ Kokkos::View<T *, typename DeviceType::memory_space> to_device(const T *host, in
   for (int i = 0; i < n; i++) h(i) = host[i];
   Kokkos::deep_copy(d, h);
   return d;
+}
+
+// the Dirichlet table of the heat rules (group bits, temperatures; sphcut::dirichlet_index) on the
+// device, one element more than given, so that the views are never empty
+template <class DeviceType>
+void dirichlet_to_device(std::vector<int> bits, std::vector<double> temps, const std::string &name,
+                         Kokkos::View<int *, typename DeviceType::memory_space> &d_bits,
+                         Kokkos::View<double *, typename DeviceType::memory_space> &d_temps)
+{
+  bits.push_back(0);
+  temps.push_back(0.0);
+  d_bits = to_device<int, DeviceType>(bits.data(), (int) bits.size(), (name + ":dirbit").c_str());
+  d_temps = to_device<double, DeviceType>(temps.data(), (int) temps.size(), (name + ":dirtemp").c_str());
 }
 
 // the two-value reduction of the integrators' second halves (value_type double[2]): a sum in r[0]
