@@ -22,6 +22,9 @@
 #include "sphcut_kokkos.h"
 #include "sphcut_pair.h"
 
+#include <cstdlib>
+#include <string>
+
 using namespace LAMMPS_NS;
 using sphcut::StateLayout;
 using sphcut::NPK;
@@ -111,7 +114,7 @@ template <class DeviceType> struct AtomicAdd {
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
     PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
-    fixkk(nullptr), tables_ready(0)
+    fixkk(nullptr), tables_ready(0), lanes_env(0)
 {
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
@@ -136,6 +139,13 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk)
     error->all(FLERR, "Pair sph/jc-thermal/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  const char *e = std::getenv("SPHCUT_PAIR_LANES");
+  if (e && *e) {
+    const std::string v(e);
+    lanes_env = v.find_first_not_of("0123456789") == std::string::npos && v.size() <= 2 ? std::atoi(e) : -1;
+    if (lanes_env < 1 || lanes_env > 32 || (lanes_env & (lanes_env - 1)))
+      error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_LANES={} is not 1, 2, 4, 8, 16 or 32", v);
+  }
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
@@ -196,9 +206,10 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   stress_pass(nall, any_as);
   const int inum = list->inum;
   if (neighflag == FULL) {
-    if (use_team(inum)) {
-      if (dim == 2) neigh_pass_team<2>(inum, any_as);
-      else neigh_pass_team<3>(inum, any_as);
+    const int lanes = team_lanes(inum);
+    if (lanes > 0) {
+      if (dim == 2) neigh_pass_team<2>(inum, any_as, lanes);
+      else neigh_pass_team<3>(inum, any_as, lanes);
     } else {
       if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
       else neigh_pass<3, 0, 0>(inum, any_as);
@@ -336,34 +347,47 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
 }
 
 /* ----------------------------------------------------------------------
-   whether the neighbour pass gives each particle a group of vector lanes
-   that share its neighbours (a team), as LAMMPS's own Kokkos pair styles
-   do: package kokkos neigh/thread on|off, by default on for a GPU run of
-   at most TEAM_AUTO_MAX particles.  Few particles leave most of a GPU idle
-   and the time of a step is that of one thread's chain over its
-   neighbours: lanes shorten the chain.  Many particles fill the GPU with
-   one thread per particle, and the lanes' reduction would only add work.
+   how many vector lanes share a particle's neighbours in the neighbour
+   pass, as in LAMMPS's own Kokkos pair styles: 0 for one thread per
+   particle (neigh_pass), else the lanes of a team (neigh_pass_team).  Few
+   particles leave most of a GPU idle and a step lasts as long as one
+   thread's chain over its neighbours: lanes shorten the chain, and their
+   sums cost shuffles.  So on a GPU by default the most lanes (8 in 2D, 16
+   in 3D) for which particles x lanes stay within TEAM_FILL threads, down
+   to 2; one thread per particle above TEAM_FILL / 2 particles.  package
+   kokkos neigh/thread off: one thread per particle; on: at least 2 lanes.
+   On a host backend the team path has one lane (the CPU's order of the
+   sums).  SPHCUT_PAIR_LANES (environment, 1 = one thread per particle,
+   or 2, 4, 8, 16, 32 lanes) overrides the choice on a GPU: for the
+   benchmark that chose TEAM_FILL (bench/gpu/cutting.sh lanes).
 ------------------------------------------------------------------------- */
 
-template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::use_team(int inum) const
+template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::team_lanes(int inum) const
 {
-  if (lmp->kokkos->neigh_thread_set) return lmp->kokkos->neigh_thread;
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  return !on_host && inum <= TEAM_AUTO_MAX;
+  const bool set = lmp->kokkos->neigh_thread_set;
+  if (set && !lmp->kokkos->neigh_thread) return 0;
+  if (on_host) return set ? 1 : 0;
+  if (lanes_env > 0) return lanes_env > 1 ? lanes_env : (set ? 2 : 0);
+  int lanes = domain->dimension == 2 ? TEAM_LANES_2D : TEAM_LANES_3D;
+  while (lanes > 2 && (double) inum * lanes > TEAM_FILL) lanes /= 2;
+  if (!set && (double) inum * lanes > TEAM_FILL) return 0;
+  return lanes;
 }
 
-/* the full-list pass with a team per TEAM_SIZE particles, TEAM_LANES
-   lanes per particle (one on a host backend: the same order of the sums
-   as neigh_pass); the lanes' sums are added by shuffles, one lane writes */
+/* the full-list pass with a team per TEAM_THREADS / lanes particles, the
+   given lanes per particle (team_lanes; one on a host backend: the same
+   order of the sums as neigh_pass); the lanes' sums are added by
+   shuffles, one lane writes */
 template <class DeviceType>
 template <int DIM>
-void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as)
+void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, int lanes)
 {
   const NeighViews nv = neigh_views();
   const int kind = mdl.kernel(), corr = mdl.renormalised(), ntp = atom->ntypes + 1;
   const int hg = mdl.hourglass_coefficient() > 0.0;
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  const int lanes = on_host ? 1 : (DIM == 2 ? TEAM_LANES_2D : TEAM_LANES_3D);
+  if (on_host) lanes = 1;
   const int per_team = on_host ? 1 : TEAM_THREADS / lanes;
   typedef Kokkos::TeamPolicy<DeviceType> policy_t;
 

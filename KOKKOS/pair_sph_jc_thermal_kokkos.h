@@ -59,12 +59,13 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // the passes (public: they launch device lambdas)
   void stress_pass(int nall, int any_as);
   template <int DIM, int HALF, int NEWTON> void neigh_pass(int inum, int any_as);
-  template <int DIM> void neigh_pass_team(int inum, int any_as);
+  template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
   template <int DIM> void hourglass_pass(int inum);
-  // the team path (neigh_pass_team): particles for which it is the default on a GPU, lanes per
-  // particle, threads per team
-  enum { TEAM_AUTO_MAX = 8192, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
-  int use_team(int inum) const;
+  // the team path (neigh_pass_team): at most TEAM_LANES_2D / _3D lanes per particle, halved
+  // while particles x lanes exceed TEAM_FILL (the threads that fill a GPU of about a hundred
+  // multiprocessors); threads per team
+  enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
+  int team_lanes(int inum) const;
   struct NeighViews {
     typename sphcut::AtomTypes<DeviceType>::f f;
     typename AT::t_int_1d_const type;
@@ -83,6 +84,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   int nmax_kk;
   FixSPHJCThermalKokkosBase *fixkk;
   int tables_ready;
+  int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
   typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost

@@ -33,6 +33,8 @@
 #   stepcost the 2D cut in contact, PROF_STEPS steps at STEPCOST_NY (11, 21, 41 and 81) across: us/step
 #            against the particle count (the fixed cost per step), LAMMPS' timer table and sphcut's per
 #            style; STEPCOST_ARGS more lmp arguments (e.g. "-var dtevery 1"), STEPCOST_TAG a log suffix
+#   lanes    the 2D cut in contact at LANES_NY (21 41 81) across with 1, 2, 4, 8 lanes per particle in
+#            the pair's neighbour pass and with the default choice, in turn (LANES_SET, LANES_REPS): us/step
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -471,6 +473,30 @@ stepcost() {
     prof_run sc$ny${STEPCOST_TAG:-} "$EX2" -var ny $ny -var steps $steps $NEV ${STEPCOST_ARGS:-}
     sed -n '/^Section |/,/^Other/p' log.sc$ny${STEPCOST_TAG:-} | sed 's/^/    /' >> "$SUM"
     grep -A14 "sphcut timing" log.sc$ny${STEPCOST_TAG:-} | sed 's/^/    /' >> "$SUM"
+  done
+  cd "$ROOT"
+}
+
+# the pair's neighbour pass with 1 (one thread per particle), 2, 4 and 8 lanes per particle
+# (SPHCUT_PAIR_LANES) and with the default choice (PairSPHJCThermalKokkos::team_lanes), in
+# contact, PROF_STEPS steps at LANES_NY (21, 41 and 81) across: us/step (what chose TEAM_FILL).
+# LANES_SET: the settings (default "1 2 4 8 auto"), run in turn LANES_REPS times (default 2);
+# each setting first runs 30 steps untimed (the driver compiles a kernel's PTX at its first launch)
+lanes() {
+  cd $W
+  local steps=${PROF_STEPS:-2000} ny l r
+  for ny in ${LANES_NY:-21 41 81}; do
+    for l in ${LANES_SET:-1 2 4 8 auto}; do
+      [ $l = auto ] && l=""
+      SPHCUT_PAIR_LANES=$l timeout 120 "$BIN" $GPUK -in "$EX2" -var xstart 0.6 -var ny $ny -var steps 30 \
+        -var dumpevery 0 -log none > /dev/null 2>&1
+    done
+    for r in $(seq ${LANES_REPS:-2}); do
+      for l in ${LANES_SET:-1 2 4 8 auto}; do
+        if [ $l = auto ]; then prof_run ln$ny${l}r$r "$EX2" -var ny $ny -var steps $steps $NEV
+        else SPHCUT_PAIR_LANES=$l prof_run ln$ny${l}r$r "$EX2" -var ny $ny -var steps $steps $NEV; fi
+      done
+    done
   done
   cd "$ROOT"
 }
