@@ -26,6 +26,12 @@ build() {
   [ -f "$BIN" ] && return 0
   { nvidia-smi -L; nvcc --version | tail -2; echo "cores: $(nproc)"; } > "$OUT/device.txt" 2>&1 || true
   local t0; t0=$(date +%s)
+  # a dependency build a previous call packed (pack_deps; its parts joined here into
+  # .carry/deps.tar.gz): used as it is, build-deps.sh finds it complete
+  if [ -f "$ROOT/.carry/deps.tar.gz" ]; then
+    mkdir -p "$SPHCUT_CACHE" && tar xzf "$ROOT/.carry/deps.tar.gz" -C "$SPHCUT_CACHE" \
+      && say "deps: from .carry/deps.tar.gz"
+  fi
   mkdir -p /tmp/sphcut-src && tar xzf "$ROOT/.carry/sphcut-sources.tar.gz" -C /tmp/sphcut-src
   bash "$ROOT/tools/build-deps.sh" --cuda --no-apt --sources /tmp/sphcut-src --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
     || { tail -30 "$OUT/build-deps.log"; exit 1; }
@@ -37,6 +43,16 @@ build() {
   say "build: $(( $(date +%s) - t0 )) s (deps + plugin, $NJ jobs)"
 }
 
+# the device build of the dependencies (installed files, nvcc_wrapper and the LAMMPS headers: what
+# the plugin build reads; about 17 MB) as $1.part.* in 15 MB parts, so that the next call skips
+# it: join them here with  cat DIR/deps.part.* > .carry/deps.tar.gz  (the device machine starts
+# bare at every call; its deps build takes 3-5 minutes)
+pack_deps() {
+  local p b; p=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix); b=$(basename "$p")
+  (cd "$SPHCUT_CACHE" && { find "$b" -path "$b/src" -prune -o \( -type f -o -type l \) -print; find "$b/src/kokkos/bin";
+    find "$b/src/lammps/src" -name '*.h'; } | tar cf - -T - | gzip -6 > /tmp/deps.tar.gz) \
+    && split -b 15M /tmp/deps.tar.gz "$1.part." && say "deps packed: $(du -h /tmp/deps.tar.gz | cut -f1)"
+}
 
 # build, then the modes named on the command line (default: check), each a function of the script
 run_modes() {
