@@ -11,6 +11,7 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -381,6 +382,22 @@ TEST(Kokkos, ClearErrors)
     l.cmds({"thermo 50", "run 20", "write_dump all custom kk-state.dump id f_sph[1] f_sph[12] modify sort id"});
     std::ifstream in("kk-state.dump");
     EXPECT_TRUE(in.good());
+  }
+  {
+    // the benchmarks' override of the pair's lanes per particle (bench/gpu/cutting.sh lanes): a
+    // value that is not a power of 2 up to 32 is refused by name, a valid one runs (a host backend
+    // keeps its one lane)
+    for (const char *bad : {"3", "64", "0", "four"}) {
+      setenv("SPHCUT_PAIR_LANES", bad, 1);
+      Lammps l(MPI_COMM_WORLD, KK_FULL);
+      l.cmds(collision("off"));
+      EXPECT_TRUE(l.error_contains("run 0", std::string("SPHCUT_PAIR_LANES=") + bad + " is not 1, 2, 4, 8, 16 or 32"))
+          << bad;
+    }
+    setenv("SPHCUT_PAIR_LANES", "4", 1);
+    const Snapshot four = run(KK_FULL, "off", 2, 20);
+    unsetenv("SPHCUT_PAIR_LANES");
+    expect_same(run(KK_FULL, "off", 2, 20), four, "kk with SPHCUT_PAIR_LANES=4 on a host backend");
   }
 }
 
