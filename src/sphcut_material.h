@@ -16,6 +16,11 @@ enum EosKind { EOS_LINEAR = 0, EOS_MIE_GRUNEISEN = 1 };
 // flow-stress law (pair_coeff keyword flow): a new law is a value here, a branch of
 // flow_hardening below and its keywords in sphcut::Model (the material table)
 enum FlowKind { FLOW_JC = 0, FLOW_TANH = 1 };
+// what a particle below the pressure cutoff carries (pair_coeff keyword spall, with pmin):
+// cutoff: the pressure pmin and its deviatoric stress (LS-DYNA's spall type 1); release: no
+// stress at all (pressure and deviatoric stress zero in the forces) while its EOS pressure is
+// below pmin, the material separated there
+enum SpallKind { SPALL_CUTOFF = 0, SPALL_RELEASE = 1 };
 
 // Plain-old-data material record, one per atom type (copyable to the device).
 struct Material {
@@ -38,6 +43,7 @@ struct Material {
   // tensile failure (pair_coeff keyword pmin): the pressure is cut off at pmin < 0 (spall, as the
   // pressure cutoff PC of LS-DYNA *MAT_JOHNSON_COOK, spall type 1); 0: no cutoff
   double pmin;
+  int spall;          // SpallKind: what a particle below pmin carries
   // flow-stress law (keyword flow, FlowKind) and the parameters of the modified Johnson-Cook
   // law with strain softening (flow tanh, Calamaz et al. 2008): a, b, c, d
   int flow;
@@ -81,12 +87,20 @@ SPHCUT_INLINE double eos_pressure_uncut(const Material &mat, double rho, double 
 /* pressure cutoff (spall limit, keyword pmin < 0; LS-DYNA *MAT_JOHNSON_COOK PC, spall type 1):
    p = max(p_EOS, pmin).  Below the cutoff the pressure stays at pmin however far the particle
    expands (no bulk stiffness in tension there: dp/drho = 0), and it follows the EOS again once
-   the EOS comes back above pmin; the deviatoric stress is not touched.  Without a cutoff
-   (pmin = 0) p_EOS unchanged.  The sound speeds (c0, c_l: time step, artificial viscosity) stay
-   those of the EOS.  A NaN stays NaN (the comparison is false).                          */
+   the EOS comes back above pmin; the deviatoric stress is not touched.  With spall release the
+   pressure below the cutoff is 0 instead, and particle_stress drops the deviatoric stress too
+   (spall_released).  Without a cutoff (pmin = 0) p_EOS unchanged.  The sound speeds (c0, c_l:
+   time step, artificial viscosity) stay those of the EOS.  A NaN stays NaN (the comparison is
+   false).                                                                                  */
+SPHCUT_INLINE bool spall_released(const Material &mat, double p_eos)
+{
+  return mat.spall == SPALL_RELEASE && mat.pmin < 0.0 && p_eos < mat.pmin;
+}
+
 SPHCUT_INLINE double pressure_cutoff(const Material &mat, double p)
 {
-  return (mat.pmin < 0.0 && p < mat.pmin) ? mat.pmin : p;
+  if (mat.pmin < 0.0 && p < mat.pmin) return mat.spall == SPALL_RELEASE ? 0.0 : mat.pmin;
+  return p;
 }
 
 SPHCUT_INLINE double eos_pressure(const Material &mat, double rho, double T)

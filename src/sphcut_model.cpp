@@ -58,6 +58,7 @@ const std::vector<MaterialFlag> &material_flags()
       {"eos", &Material::eos, EOS_LINEAR},
       {"plastic", &Material::plastic, 0},
       {"flow", &Material::flow, FLOW_JC},
+      {"spall", &Material::spall, SPALL_CUTOFF},
   };
   return flags;
 }
@@ -149,6 +150,7 @@ Material Model::parse_material(LAMMPS *lmp, int narg, char **arg, int &nmat, dou
   m.eos = EOS_LINEAR;
   m.flow = FLOW_JC;
   m.pmin = 0.0;    // no pressure cutoff
+  m.spall = SPALL_CUTOFF;
   nmat = 0;
   for (int iarg = 2; iarg < narg; iarg += 2) {
     const std::string kw = arg[iarg];
@@ -171,6 +173,10 @@ Material Model::parse_material(LAMMPS *lmp, int narg, char **arg, int &nmat, dou
       if (v == "jc") m.flow = FLOW_JC;
       else if (v == "tanh") m.flow = FLOW_TANH;
       else error->all(FLERR, "Pair sph/jc-thermal: unknown flow {} (jc, tanh)", v);
+    } else if (kw == "spall") {
+      if (v == "cutoff") m.spall = SPALL_CUTOFF;
+      else if (v == "release") m.spall = SPALL_RELEASE;
+      else error->all(FLERR, "Pair sph/jc-thermal: unknown spall {} (cutoff, release)", v);
     } else if (kw == "pmin") {
       // tension cutoff of the pressure: a negative pressure, or none (the default)
       if (v == "none") m.pmin = 0.0;
@@ -227,6 +233,9 @@ void Model::check_material(LAMMPS *lmp, Material &m, const char *iarg, const cha
   }
   if (m.flow == FLOW_TANH && m.Tmelt == UNSET)
     error->all(FLERR, "Pair sph/jc-thermal: flow tanh needs Tmelt (its softening depends on T/Tmelt)");
+  if (m.spall == SPALL_RELEASE && !(m.pmin < 0.0))
+    error->all(FLERR, "Pair sph/jc-thermal: spall release needs a pressure cutoff (pmin < 0) in pair_coeff {} {}",
+               iarg, jarg);
   if (m.eos == EOS_MIE_GRUNEISEN && (m.gamma0 == UNSET || m.s_hug == UNSET))
     error->all(FLERR, "Pair sph/jc-thermal: eos mie-gruneisen needs gamma0 and s");
   if (m.eos != EOS_MIE_GRUNEISEN && (m.gamma0 != UNSET || m.s_hug != UNSET))

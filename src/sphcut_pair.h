@@ -278,12 +278,19 @@ SPHCUT_INLINE bool no_positive_eigenvalue(const double *s)
 // per particle of the force state (local and ghost), what its pairs need: A = sigma/rho^2
 // (the particle's share of the momentum bracket) and the artificial stress R.  R is zero
 // unless a principal stress is tensile: a stress without one (the usual state under
-// compression) skips the eigen-decomposition.
+// compression) skips the eigen-decomposition.  A particle released by the spall (pmin with
+// spall release, below the cutoff) carries neither.
 SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, double rho_f, double temp_f,
                                    const double *sf, double *A, double *R)
 {
+  const double p_eos = eos_pressure_uncut(mt, rho_f, temp_f);
+  if (spall_released(mt, p_eos)) {
+    // separated (spall release): no stress, so no artificial stress either
+    for (int k = 0; k < 6; k++) A[k] = R[k] = 0.0;
+    return;
+  }
   double sig[6];
-  cauchy_stress(sf, eos_pressure(mt, rho_f, temp_f), sig);
+  cauchy_stress(sf, pressure_cutoff(mt, p_eos), sig);
   const double ir2 = 1.0 / (rho_f * rho_f);
   for (int k = 0; k < 6; k++) A[k] = sig[k] * ir2;
   if (!with_as) return;

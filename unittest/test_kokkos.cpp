@@ -137,6 +137,15 @@ TEST(Kokkos, PressureCutoffMatchesCpu)
       scale = std::max(scale, fabs(cpu.state[i * ncol + P]));
     }
     EXPECT_GT(diff, 1e-3 * scale) << "the cutoff changes the pressure";
+    // spall release: the particles below the cutoff carry no stress (PRESS exactly 0), on the CPU
+    // as under /kk
+    const Snapshot rel = run_pmin({}, "on", dim, pmin + " spall release");
+    int released = 0;
+    for (size_t i = 0; i < rel.state.size() / ncol; i++)
+      if (rel.state[i * ncol + P] == 0.0) released++;
+    std::printf("[ release %dD ] %d of %zu particles released\n", dim, released, rel.state.size() / ncol);
+    EXPECT_GT(released, 0) << "the release is reached";
+    expect_same(rel, run_pmin(KK_FULL, "off", dim, pmin + " spall release"), dim == 2 ? "kk release 2D" : "kk release 3D");
   }
 }
 

@@ -2,6 +2,7 @@
 // Johnson-Cook flow stress, radial return, Jaumann rate, EOS, artificial
 // viscosity and stress, eigen decomposition and inverse
 #include "sphcut_material.h"
+#include "sphcut_pair.h"
 
 #include <gtest/gtest.h>
 
@@ -189,6 +190,53 @@ TEST(Material, PressureCutoff)
     EXPECT_EQ(eos_pressure(cut, 1.05 * mat.rho0, 300.0), eos_pressure_uncut(mat, 1.05 * mat.rho0, 300.0));
     EXPECT_TRUE(std::isnan(eos_pressure(cut, std::nan(""), 300.0)));
   }
+}
+
+// spall release (pair_coeff ... pmin P spall release): below the cutoff the pressure is 0 instead
+// of pmin and the particle carries no stress at all in the forces (A = sigma/rho^2 and the
+// artificial stress R zero, whatever its deviatoric stress); above the cutoff, and with spall
+// cutoff, what the cutoff alone gives, bit for bit
+TEST(Material, SpallRelease)
+{
+  Material cut = ti64();
+  cut.pmin = -4.0e9;
+  Material rel = cut;
+  rel.spall = SPALL_RELEASE;
+  const double sdev[6] = {3.0e8, -1.0e8, -2.0e8, 5.0e7, 0.0, 0.0};
+  int nreleased = 0, nheld = 0;
+  for (int k = 0; k <= 40; k++) {
+    const double rho = cut.rho0 * (1.05 - 0.005 * k);    // 5 % compression .. 15 % expansion
+    const double p = eos_pressure_uncut(cut, rho, 300.0);
+    double Ac[6], Rc[6], Ar[6], Rr[6];
+    particle_stress(cut, 3, 1, rho, 300.0, sdev, Ac, Rc);
+    particle_stress(rel, 3, 1, rho, 300.0, sdev, Ar, Rr);
+    EXPECT_EQ(spall_released(rel, p), p < -4.0e9);
+    EXPECT_FALSE(spall_released(cut, p)) << "spall cutoff releases nothing";
+    if (p < -4.0e9) {
+      EXPECT_EQ(eos_pressure(rel, rho, 300.0), 0.0);
+      EXPECT_EQ(eos_pressure(cut, rho, 300.0), -4.0e9);
+      for (int c = 0; c < 6; c++) {
+        EXPECT_EQ(Ar[c], 0.0) << "released: no stress, rho " << rho;
+        EXPECT_EQ(Rr[c], 0.0) << "released: no artificial stress, rho " << rho;
+      }
+      EXPECT_NE(Ac[0], 0.0) << "the cutoff alone keeps pmin and the deviator";
+      nreleased++;
+    } else {
+      EXPECT_EQ(eos_pressure(rel, rho, 300.0), p);
+      for (int c = 0; c < 6; c++) {
+        EXPECT_EQ(Ar[c], Ac[c]) << "above pmin as with the cutoff, rho " << rho;
+        EXPECT_EQ(Rr[c], Rc[c]) << "above pmin as with the cutoff, rho " << rho;
+      }
+      nheld++;
+    }
+  }
+  EXPECT_GT(nreleased, 5);
+  EXPECT_GT(nheld, 5);
+  // without a cutoff nothing is released, whatever the tension
+  Material none = rel;
+  none.pmin = 0.0;
+  EXPECT_FALSE(spall_released(none, -1.0e12));
+  EXPECT_EQ(pressure_cutoff(none, -1.0e12), -1.0e12);
 }
 
 // total stress = deviator - p I

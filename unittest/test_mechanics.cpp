@@ -215,6 +215,10 @@ TEST(BadInput, PairAndFix)
   EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin -4GPa",
                                "pmin must be a negative pressure or none, got -4GPa"));
   EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin", "keyword pmin needs a value"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 pmin -4e9 spall free",
+                               "unknown spall free (cutoff, release)"));
+  EXPECT_TRUE(l.error_contains("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 h 1e-3 spall release",
+                               "spall release needs a pressure cutoff (pmin < 0) in pair_coeff 1 1"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal dtmax 1e-9", "dtmax and dtmin need the adaptive time step"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal dtevery 10", "dtevery 10 needs the adaptive time step"));
   EXPECT_TRUE(l.error_contains("fix sph all sph/jc-thermal cfl 0.3 dtevery 0", "dtevery must be >= 1, got 0"));
@@ -281,21 +285,24 @@ TEST(PressureCutoff, StretchedBlock)
   }
 }
 
-// pmin travels with the restart file, per type; pair_coeff without it (or with pmin none) sets no cutoff
+// pmin and spall travel with the restart file, per type; pair_coeff without them (or with pmin none)
+// sets no cutoff and spall cutoff
 TEST(PressureCutoff, Restart)
 {
   {
     Lammps l;
-    block2d(l, 6, 4, 1.0e-3, "pmin -2.5e9");
+    block2d(l, 6, 4, 1.0e-3, "pmin -2.5e9 spall release");
     l.cmds({"run 0 post no", "write_restart pmin.restart"});
   }
   Lammps l;
   l.cmds({"read_restart pmin.restart", "fix sph all sph/jc-thermal", "run 0 post no"});
   auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
   EXPECT_EQ(pair->model().materials()[1].pmin, -2.5e9);
+  EXPECT_EQ(pair->model().materials()[1].spall, sphcut::SPALL_RELEASE);
   EXPECT_EQ(pair->model().materials()[1].rho0, 7800.0);
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 pmin none");
   EXPECT_EQ(pair->model().materials()[1].pmin, 0.0);
+  EXPECT_EQ(pair->model().materials()[1].spall, sphcut::SPALL_CUTOFF);
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 pmin -3e9");
   EXPECT_EQ(pair->model().materials()[1].pmin, -3e9);
   l.cmd("pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3");
