@@ -358,21 +358,17 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
    kokkos neigh/thread off: one thread per particle; on: at least 2 lanes.
    On a host backend the team path has one lane (the CPU's order of the
    sums).  SPHCUT_PAIR_LANES (environment, 1 = one thread per particle,
-   or 2, 4, 8, 16, 32 lanes) overrides the choice on a GPU: for the
-   benchmark that chose TEAM_FILL (bench/gpu/cutting.sh lanes).
+   or 2, 4, 8, 16, 32 lanes) overrides the choice on a GPU, except
+   neigh/thread off: for the benchmark that chose TEAM_FILL
+   (bench/gpu/cutting.sh lanes).  The choice itself: gpu_lanes.
 ------------------------------------------------------------------------- */
 
 template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::team_lanes(int inum) const
 {
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  const bool set = lmp->kokkos->neigh_thread_set;
-  if (set && !lmp->kokkos->neigh_thread) return 0;
-  if (on_host) return set ? 1 : 0;
-  if (lanes_env > 0) return lanes_env > 1 ? lanes_env : (set ? 2 : 0);
-  int lanes = domain->dimension == 2 ? TEAM_LANES_2D : TEAM_LANES_3D;
-  while (lanes > 2 && (double) inum * lanes > TEAM_FILL) lanes /= 2;
-  if (!set && (double) inum * lanes > TEAM_FILL) return 0;
-  return lanes;
+  const bool set = lmp->kokkos->neigh_thread_set, on = lmp->kokkos->neigh_thread;
+  if (on_host) return set && on ? 1 : 0;
+  return gpu_lanes(inum, domain->dimension, set, on, lanes_env);
 }
 
 /* the full-list pass with a team per TEAM_THREADS / lanes particles, the

@@ -66,6 +66,17 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // multiprocessors); threads per team
   enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
   int team_lanes(int inum) const;
+  // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
+  // SPHCUT_PAIR_LANES (0: unset); 0 = one thread per particle
+  static int gpu_lanes(int inum, int dim, bool set, bool on, int env)
+  {
+    if (set && !on) return 0;
+    if (env > 0) return env > 1 ? env : 0;
+    int lanes = dim == 2 ? TEAM_LANES_2D : TEAM_LANES_3D;
+    while (lanes > 2 && (double) inum * lanes > TEAM_FILL) lanes /= 2;
+    if (!set && (double) inum * lanes > TEAM_FILL) return 0;
+    return lanes;
+  }
   struct NeighViews {
     typename sphcut::AtomTypes<DeviceType>::f f;
     typename AT::t_int_1d_const type;

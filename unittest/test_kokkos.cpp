@@ -5,6 +5,8 @@
 // and the clear errors.  Run on 1 and 2 MPI ranks (ctest: test_kokkos, test_kokkos_np2).
 #include "sphcut_collision.h"
 
+#include "pair_sph_jc_thermal_kokkos.h"
+
 #include "input.h"
 #include "neighbor.h"
 #include "update.h"
@@ -59,6 +61,30 @@ TEST(Kokkos, FullListNewtonOffMatchesCpu2D)
 
 // the neighbour pass with a team of vector lanes per particle (package kokkos neigh/thread on, the
 // default on a GPU for small systems): on a host backend one lane, the sums in the same order
+// the lanes per particle of the pair's neighbour pass on a GPU (PairSPHJCThermalKokkos::gpu_lanes,
+// chosen by bench/gpu/cutting.sh lanes on an H100): 8 (2D) / 16 (3D) for small systems, halved
+// while particles x lanes exceed 131,072, none above 65,536 particles; package kokkos neigh/thread
+// on keeps at least 2, off none; SPHCUT_PAIR_LANES overrides all but off
+TEST(Kokkos, PairLanesOnAGpu)
+{
+  using PK = LAMMPS_NS::PairSPHJCThermalKokkos<LMPDeviceType>;
+  EXPECT_EQ(PK::gpu_lanes(1393, 2, false, false, 0), 8);     // the quick cut
+  EXPECT_EQ(PK::gpu_lanes(4882, 2, false, false, 0), 8);     // 21 across
+  EXPECT_EQ(PK::gpu_lanes(18271, 2, false, false, 0), 4);    // 41 across: 4 lanes measured fastest
+  EXPECT_EQ(PK::gpu_lanes(18271, 3, false, false, 0), 4);
+  EXPECT_EQ(PK::gpu_lanes(40000, 2, false, false, 0), 2);
+  EXPECT_EQ(PK::gpu_lanes(65536, 2, false, false, 0), 2);
+  EXPECT_EQ(PK::gpu_lanes(65537, 2, false, false, 0), 0);    // one thread per particle
+  EXPECT_EQ(PK::gpu_lanes(70567, 2, false, false, 0), 0);    // 81 across: one thread measured fastest
+  EXPECT_EQ(PK::gpu_lanes(4882, 3, false, false, 0), 16);
+  EXPECT_EQ(PK::gpu_lanes(1000000, 3, false, false, 0), 0);
+  EXPECT_EQ(PK::gpu_lanes(1000000, 3, true, true, 0), 2);    // neigh/thread on
+  EXPECT_EQ(PK::gpu_lanes(1393, 2, true, false, 0), 0);      // neigh/thread off
+  EXPECT_EQ(PK::gpu_lanes(1393, 2, true, false, 4), 0);      // off wins over the override
+  EXPECT_EQ(PK::gpu_lanes(70567, 2, false, false, 8), 8);    // SPHCUT_PAIR_LANES
+  EXPECT_EQ(PK::gpu_lanes(1393, 2, false, false, 1), 0);
+}
+
 TEST(Kokkos, TeamNeighbourPassMatchesCpu)
 {
   std::vector<std::string> team = KK_FULL;
