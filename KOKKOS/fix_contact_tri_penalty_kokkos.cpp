@@ -82,14 +82,6 @@ enum { A_QWORK = 0, A_QLOST, A_QTOOL, A_QSRC, A_QLUMP, A_TWORK, A_DISS, NACCUM }
 // that fetch() brings the number of contacts with the sums
 enum { C_NREC = NRED + NACCUM, NSUMS = C_NREC + 2 };
 
-// a particle the contact acts on: in the fix's group, not a tool particle (tool_particles
-// group, or the role TOOL of fix sph/jc-thermal)
-KOKKOS_INLINE_FUNCTION bool contact_candidate(int m, int groupbit, int toolbit, int fixtoolbit, int fixclampbit)
-{
-  return (m & groupbit) && !(m & toolbit) &&
-      sphcut::role_from_mask(m, fixtoolbit, fixclampbit) != sphcut::StateLayout::TOOL;
-}
-
 template <class DeviceType> struct ContactKernel {
   typedef DeviceType device_type;
   typedef double value_type[];
@@ -108,7 +100,8 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
-  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit, use_rmass, nmu, ntp, kernel;
+  ContactMaskBits bits;
+  int use_rmass, nmu, ntp, kernel;
   double mu0;
   Kokkos::View<double *, mem> sums;    // NRED sums of this step, the NACCUM accumulators, the counters
   typename AT::t_double_1d dtlim;      // the spring's dt limit: this fix's slot of fix sph/jc-thermal/kk
@@ -197,7 +190,7 @@ template <class DeviceType> struct ContactKernel {
     // heat into the particle's temperature rate, as FixHeatFMFS::add_heat
     KOKKOS_INLINE_FUNCTION void heat_particle(double q, double m, double acc) const
     {
-      if (!(k.mask(i) & k.heatbit)) return;
+      if (!(k.mask(i) & k.bits.heat)) return;
       if (!sphcut::add_source_heat(k.state(i, SL::DTEMP), q, m, k.mat(it).cp)) return;
       r[R_QSRC] += q * acc;
     }
@@ -209,7 +202,7 @@ template <class DeviceType> struct ContactKernel {
       double wsum = 0.0;
       for (int c = k.xoff(i); c < k.xoff(i + 1); c++) {
         const int j = k.xnb(c);
-        if (!(k.mask(j) & k.toolbit)) continue;
+        if (!(k.mask(j) & k.bits.tool)) continue;
         double r2 = 0.0;
         for (int d = 0; d < 3; d++) r2 += (k.x(i, d) - k.x(j, d)) * (k.x(i, d) - k.x(j, d));
         wsum += sphcut::tool_heat_weight(k.kernel, k.step.base.dim, r2, k.hij(it * k.ntp + k.type(j)));
@@ -223,7 +216,7 @@ template <class DeviceType> struct ContactKernel {
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
     qtw(i, 0) = 0.0;
-    const bool candidate = contact_candidate(mask(i), groupbit, toolbit, fixtoolbit, fixclampbit);
+    const bool candidate = bits.candidate(mask(i));
     Sink sink{*this, i, candidate ? type(i) : 0, r};
     sphcut::contact_step(step, candidate, sink);
   }
@@ -244,24 +237,24 @@ template <class DeviceType> struct CrossKernel {
   typename AT::t_neighbors_2d neighbors;
   typename AT::t_int_1d_const numneigh;
   Kokkos::View<int *, mem> xoff, xnb, xtool;
-  int groupbit, toolbit, fixtoolbit, fixclampbit, heatbit;
+  ContactMaskBits bits;
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &upd, const bool final) const
   {
     const int m = mask(i);
-    const bool tool = m & toolbit;
+    const bool tool = m & bits.tool;
     const int start = (int) (upd & LOW);
     int c = 0;
-    if (tool || contact_candidate(m, groupbit, toolbit, fixtoolbit, fixclampbit)) {
+    if (tool || bits.candidate(m)) {
       const int nn = numneigh(i);
       for (int jj = 0; jj < nn; jj++) {
         const int j = neighbors(i, jj) & NEIGHMASK;
-        if (((mask(j) & toolbit) != 0) == tool) continue;
+        if (((mask(j) & bits.tool) != 0) == tool) continue;
         if (final && start + c < (int) xnb.extent(0)) xnb(start + c) = j;
         c++;
       }
     }
-    const bool gather = tool && (m & heatbit) && c > 0;
+    const bool gather = tool && (m & bits.heat) && c > 0;
     if (final) {
       if (i == 0) xoff(0) = 0;
       xoff(i + 1) = start + c;
@@ -453,11 +446,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.hij = d_hij;
   k.mut = d_mut;
   k.muv = d_muv;
-  k.groupbit = groupbit;
-  k.toolbit = toolbit;
-  k.fixtoolbit = fix->toolbit;
-  k.fixclampbit = fix->clampbit;
-  k.heatbit = heat ? heat->groupbit : 0;
+  k.bits = mask_bits();
   k.use_rmass = atom->rmass_flag;
   k.nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
   k.ntp = atom->ntypes + 1;
@@ -530,6 +519,12 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
   reset_accum = 1;    // added to the totals: the next contact kernel zeroes them (final)
 }
 
+// what ContactKernel and CrossKernel sort particles by
+template <class DeviceType> ContactMaskBits FixContactTriPenaltyKokkos<DeviceType>::mask_bits() const
+{
+  return {groupbit, toolbit, fix->toolbit, fix->clampbit, heat ? heat->groupbit : 0};
+}
+
 /* the cross neighbours (CrossKernel) from the lists of the last reneighbouring: once per build
    of the lists (and at each setup); the scan's total sizes d_xnb (grown, then scanned again)
    and the gather's range */
@@ -551,11 +546,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::cross_b
   c.numneigh = kl->d_numneigh;
   c.xoff = d_xoff;
   c.xtool = d_xtool;
-  c.groupbit = groupbit;
-  c.toolbit = toolbit;
-  c.fixtoolbit = fix->toolbit;
-  c.fixclampbit = fix->clampbit;
-  c.heatbit = heat->groupbit;
+  c.bits = mask_bits();
   int64_t total = 0;
   for (int pass = 0; pass < 2; pass++) {
     c.xnb = d_xnb;

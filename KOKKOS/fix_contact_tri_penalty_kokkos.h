@@ -29,10 +29,23 @@ FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
 #include "sphcut_kokkos.h"
 #include "sphcut_contact.h"
 #include "sphcut_material.h"
+#include "sphcut_solid.h"
 
 namespace LAMMPS_NS {
 
 class FixSPHJCThermalKokkosBase;
+
+// the mask bits that sort particles for the contact's kernels: the fix's group, its tool particles
+// (tool_particles), fix sph/jc-thermal's tool and clamp roles, the heat fix's group (0: none)
+struct ContactMaskBits {
+  int group, tool, fixtool, fixclamp, heat;
+  // a particle the contact acts on: in the group, not a tool particle (tool_particles group, or
+  // the role TOOL of fix sph/jc-thermal)
+  KOKKOS_INLINE_FUNCTION bool candidate(int m) const
+  {
+    return (m & group) && !(m & tool) && sphcut::role_from_mask(m, fixtool, fixclamp) != sphcut::StateLayout::TOOL;
+  }
+};
 
 template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContactTriPenalty, public KokkosBase {
  public:
@@ -97,6 +110,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   bigint xcalls = -1;                            // neighbor->ncalls at the last build (-1: build)
   int xnlocal = -1;
   void cross_build();
+  ContactMaskBits mask_bits() const;
   int reset_accum = 0;                           // fetch() read the accumulators: the next kernel zeroes them
   // tool fields per facet: the contact kernel adds each contact's share to d_facc (atomics, the
   // running interval's sums of this rank); the host copy (fields.acc) is made at the interval's
