@@ -43,6 +43,23 @@ build() {
   say "build: $(( $(date +%s) - t0 )) s (deps + plugin, $NJ jobs)"
 }
 
+# a second plugin, the baseline of a speed comparison (cutting.sh ab), built against the same
+# dependencies from .carry/b-src.tar.gz (made here with  git archive -o .carry/b-src.tar.gz COMMIT)
+# into build-cuda-b; BIN_B its lmp_sphcut, LAMMPS_PLUGIN_PATH_B its plugin folder
+BIN_B="$ROOT/build-cuda-b/lmp_sphcut"
+build_b() {
+  build
+  [ -f "$BIN_B" ] && return 0
+  [ -f "$ROOT/.carry/b-src.tar.gz" ] || { say "build_b: no .carry/b-src.tar.gz (git archive -o .carry/b-src.tar.gz COMMIT)"; return 1; }
+  local t0 src=/tmp/sphcut-b; t0=$(date +%s)
+  mkdir -p $src && tar xzf "$ROOT/.carry/b-src.tar.gz" -C $src
+  PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
+  cmake -S $src -B "$ROOT/build-cuda-b" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
+    > "$OUT/plugin-build-b.log" 2>&1 && cmake --build "$ROOT/build-cuda-b" -j "$NJ" >> "$OUT/plugin-build-b.log" 2>&1 \
+    || { tail -40 "$OUT/plugin-build-b.log"; return 1; }
+  say "build_b: the baseline plugin in $(( $(date +%s) - t0 )) s"
+}
+
 # the device build of the dependencies (installed files, nvcc_wrapper and the LAMMPS headers: what
 # the plugin build reads; about 17 MB) as $1.part.* in 15 MB parts, so that the next call skips
 # it: join them here with  cat DIR/deps.part.* > .carry/deps.tar.gz  (the device machine starts

@@ -35,6 +35,10 @@
 #            style; STEPCOST_ARGS more lmp arguments (e.g. "-var dtevery 1"), STEPCOST_TAG a log suffix
 #   lanes    the 2D cut in contact at LANES_NY (21 41 81) across with 1, 2, 4, 8 lanes per particle in
 #            the pair's neighbour pass and with the default choice, in turn (LANES_SET, LANES_REPS): us/step
+#   ab       speed of this tree (A) against a baseline (B: .carry/b-src.tar.gz, build_b of common.sh),
+#            in turn AB_REPS times (default 2): the 2D cut in contact at AB_NY (41) across, PROF_STEPS
+#            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
+#            steps (particle-steps/s)
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -495,6 +499,34 @@ lanes() {
       for l in ${LANES_SET:-1 2 4 8 auto}; do
         if [ $l = auto ]; then prof_run ln$ny${l}r$r "$EX2" -var ny $ny -var steps $steps $NEV
         else SPHCUT_PAIR_LANES=$l prof_run ln$ny${l}r$r "$EX2" -var ny $ny -var steps $steps $NEV; fi
+      done
+    done
+  done
+  cd "$ROOT"
+}
+
+# the speed of this tree against the baseline build (build_b), A and B in turn; each run is first
+# warmed by 30 steps (the driver compiles a kernel's PTX at its first launch)
+ab() {
+  build_b || return 1
+  cd $W
+  local steps=${PROF_STEPS:-2000} ny nz r v
+  for v in A B; do
+    local bin=$BIN pp=$ROOT/build-cuda; [ $v = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b
+    LAMMPS_PLUGIN_PATH=$pp timeout 120 "$bin" $GPUK -in "$EX2" -var xstart 0.6 -var ny 11 -var steps 30 \
+      -var dumpevery 0 -log none > /dev/null 2>&1
+  done
+  for r in $(seq ${AB_REPS:-2}); do
+    for v in A B; do
+      local bin=$BIN pp=$ROOT/build-cuda; [ $v = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b
+      for ny in ${AB_NY:-41}; do
+        BIN=$bin LAMMPS_PLUGIN_PATH=$pp prof_run ab$v${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV
+      done
+      for nz in ${AB_NZ:-58 232}; do
+        LAMMPS_PLUGIN_PATH=$pp timeout 290 "$bin" $GPUK $NEV -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 \
+          -var steps ${BENCH_STEPS:-200} -var thermoevery 100 -var printevery 100 -log log.ab$v$nz$r > screen.ab$v$nz$r 2>&1 \
+          || tail -3 screen.ab$v$nz$r
+        say "  ab$v 3D nz $nz r$r: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.ab$v$nz$r)"
       done
     done
   done
