@@ -33,43 +33,27 @@ using sphcut::PK_R;
 
 namespace {
 
-/* what a particle's neighbours read of it: one packed row (sphcut_pair.h PackedRow, NPK columns)
-   built in the stress pass (sphcut::pack_row), read by the neighbour passes (sphcut::unpack_i,
-   unpack_j).  The pair kernel's cost is the irregular loads of its neighbours' data (Nsight
-   Compute: L1-bound, not DRAM- or FLOP-bound); one row instead of pieces of x, the 49-column
-   state row, mask, type, mass, sigma and R.  The rows lie in the device's layout (t_pack): on a
-   GPU by columns, so that the threads of a warp, whose particles are neighbours in memory (the
-   lattice order of create_atoms), read a column of their neighbours from a few memory lines
-   instead of one line each; on a host backend contiguous.                                     */
-
-// a particle's row of the pack (the row interface of sphcut::RowRef): its tensors as strided
-// references (PairK), read in place in any layout
-template <class PK> struct PackRow {
-  const PK &pk;
-  int j;
-  KOKKOS_INLINE_FUNCTION double operator[](int k) const { return pk(j, k); }
-  KOKKOS_INLINE_FUNCTION sphcut::StridedRef tensor(int k) const
-  {
-    return {&pk(j, k), (long) pk.stride(1)};
-  }
-};
-typedef sphcut::PairInT<sphcut::StridedRef> PairK;
+/* what a particle's neighbours read of it: one packed row (sphcut_pair.h PackedRow, 160 bytes, 5
+   memory sectors) built in the stress pass (sphcut::pack_row), read by the neighbour passes
+   (sphcut::unpack_i, unpack_j).  The pair kernel's cost is the irregular loads of its
+   neighbours' data (Nsight Compute: L1-bound, not DRAM- or FLOP-bound); one contiguous row
+   instead of pieces of x, the 49-column state row, mask, type, mass, sigma and R halves the
+   sectors each neighbour costs.  The device row has no host extension (NPK columns).           */
 
 // particle i's side of its pairs, from its packed row; R_i with artificial stress
 template <class PK>
-KOKKOS_INLINE_FUNCTION void gather_i(const PK &pk, int i, int any_as, double *xi, double *vi, PairK &in)
+KOKKOS_INLINE_FUNCTION void gather_i(const PK &pk, int i, int any_as, double *xi, double *vi, sphcut::PairIn &in)
 {
-  const PackRow<PK> r{pk, i};
-  sphcut::unpack_i(r, xi, vi, in);
-  in.R_i = any_as ? r.tensor(PK_R) : sphcut::StridedRef{nullptr, 0};
+  sphcut::unpack_i(&pk(i, 0), xi, vi, in);
+  in.R_i = any_as ? &pk(i, PK_R) : nullptr;
 }
 
 // the inputs of pair i-j; false when j is beyond the cutoff or not in the SPH solid
 template <class PK>
 KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair &tp, int j, const double *xi,
-                                     const double *vi, PairK &in, double &mj)
+                                     const double *vi, sphcut::PairIn &in, double &mj)
 {
-  return sphcut::unpack_j(PackRow<PK>{pk, j}, tp, xi, vi, in, mj);
+  return sphcut::unpack_j(&pk(j, 0), tp, xi, vi, in, mj);
 }
 
 // the rates of particle i from its neighbour sums, into its state row
@@ -204,7 +188,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int dim = domain->dimension;
   if (atom->nmax > nmax_kk) {
     nmax_kk = atom->nmax;
-    d_pack = t_pack("pair:pack", nmax_kk, NPK);
+    d_pack = typename AT::t_double_2d("pair:pack", nmax_kk, NPK);
     if (neighflag != FULL) {
       memoryKK->destroy_kokkos(k_acc);
       k_acc = DAT::tdual_double_2d("pair:acc", nmax_kk, sphcut::NACC);
@@ -291,17 +275,12 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   Kokkos::parallel_for("sphcut:pair:stress_pass",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
-        double row[NPK];
         if (!(av.mask(i) & gb) || sphcut::role_from_mask(av.mask(i), tb, cb) == SL::TOOL) {
-          sphcut::pack_outside(xi, row);    // not in the SPH solid: its neighbours skip it
-          for (int a = 0; a < 3; a++) pk(i, sphcut::PK_X + a) = row[sphcut::PK_X + a];
-          pk(i, PK_M) = row[PK_M];
+          sphcut::pack_outside(xi, &pk(i, 0));    // not in the SPH solid: its neighbours skip it
           return;
         }
         sphcut::pack_row(mt(av.type(i)), dim, any_as, xi, &av.st(i, 0),
-                         use_rmass ? av.rmass(i) : av.mass(av.type(i)), row);
-        for (int k = 0; k < NPK; k++)
-          if (k < PK_R || any_as) pk(i, k) = row[k];    // (constant indices: row stays in registers)
+                         use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
       });
 }
 
@@ -331,7 +310,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
         const int itype = nv.type(i);
         double acc[sphcut::NACC];
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
-        PairK in;
+        sphcut::PairIn in;
         sphcut::PairOut out;
         double xi[3], vi[3], mj;
         gather_i(nv.pk, i, any_as, xi, vi, in);
@@ -417,7 +396,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
         const double mi = nv.pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
         const int itype = nv.type(i);
-        PairK in_i;
+        sphcut::PairIn in_i;
         double xi[3], vi[3];
         gather_i(nv.pk, i, any_as, xi, vi, in_i);
         PairSums sums;
@@ -425,7 +404,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
             Kokkos::ThreadVectorRange(team, nv.numneigh(i)),
             [&](const int jj, PairSums &s) {
               const int j = nv.neighbors(i, jj) & NEIGHMASK;
-              PairK in = in_i;
+              sphcut::PairIn in = in_i;
               double mj;
               if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) return;
               sphcut::PairOut out;
@@ -459,7 +438,7 @@ void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
         const double mi = nv.pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
         const int itype = nv.type(i);
-        PairK in;
+        sphcut::PairIn in;
         double xi[3], vi[3], mj;
         gather_i(nv.pk, i, 0, xi, vi, in);
         double hi[4] = {0.0, 0.0, 0.0, 0.0};

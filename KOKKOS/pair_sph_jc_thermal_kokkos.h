@@ -36,8 +36,6 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   typedef ArrayTypes<DeviceType> AT;
   typedef Kokkos::View<sphcut::Material *, typename DeviceType::memory_space> t_mat;
   typedef Kokkos::View<sphcut::TypePair *, typename DeviceType::memory_space> t_tpair;
-  // the packed rows (sphcut_pair.h PackedRow) in the device's layout: by columns on a GPU
-  typedef Kokkos::View<double **, typename DeviceType::array_layout, DeviceType> t_pack;
 
   PairSPHJCThermalKokkos(class LAMMPS *);
   ~PairSPHJCThermalKokkos() override;
@@ -82,8 +80,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   struct NeighViews {
     typename sphcut::AtomTypes<DeviceType>::f f;
     typename AT::t_int_1d_const type;
-    typename AT::t_double_2d st;
-    t_pack pk;
+    typename AT::t_double_2d st, pk;
     t_mat mt;
     t_tpair tpt;
     typename AT::t_neighbors_2d neighbors;
@@ -101,7 +98,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
-  t_pack d_pack;                                // what neighbours read of a particle (PackRow): local + ghost
+  typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost
   DAT::tdual_double_2d k_acc;                   // neighbour sums (half lists only)
   sphcut::StagedColumns<DeviceType> stage_lgrad;    // k_lgrad's rows on the classic forward communication
   DAT::tdual_double_2d k_lgrad;                 // hourglass control: L, local + ghost (full lists only)

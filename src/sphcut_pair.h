@@ -16,30 +16,19 @@
 
 namespace sphcut {
 
-/* six values of a symmetric tensor (Voigt) read in place, k-th at p[k * s]: a row of a table
-   stored by columns (the GPU's packed rows).  Tensor references of PairIn are plain pointers (one
-   contiguous row) or these; null: none.                                                      */
-struct StridedRef {
-  const double *p;
-  long s;
-  SPHCUT_INLINE double operator[](int k) const { return p[k * s]; }
-  SPHCUT_INLINE explicit operator bool() const { return p != nullptr; }
-};
-
-// inputs of one pair i-j (force state of fix sph/jc-thermal); T: how its tensors are referenced
-template <class T> struct PairInT {
+// inputs of one pair i-j (force state of fix sph/jc-thermal)
+struct PairIn {
   double dx[3];               // x_i - x_j
   double r2;
   double dv[3];               // v_j - v_i (predicted velocities)
   double h, inv_h, wnorm;     // smoothing length, 1/h, kernel normalisation sigma_d/h^d
   double inv_wdp;             // 1/W(particle spacing)
   double rho_i, rho_j;
-  T A_i, A_j;                 // Cauchy stress over rho^2, sigma/rho^2 (Voigt; particle_stress)
-  T R_i, R_j;                 // artificial stress tensors (null: none)
+  const double *A_i, *A_j;    // Cauchy stress over rho^2, sigma/rho^2 (Voigt; particle_stress)
+  const double *R_i, *R_j;    // artificial stress tensors (nullptr: none)
   double as_n;                // artificial stress exponent
   double alpha, beta, cbar;   // artificial viscosity
 };
-typedef PairInT<const double *> PairIn;
 
 // outputs: everything the drivers accumulate
 struct PairOut {
@@ -72,8 +61,8 @@ struct PairScalars {
   double w_rho;               // W_ij / rho_ij
 };
 
-template <int DIM, class In>
-SPHCUT_PAIR_INLINE void pair_scalars(int kernel, const In &in, PairScalars &ps)
+template <int DIM>
+SPHCUT_PAIR_INLINE void pair_scalars(int kernel, const PairIn &in, PairScalars &ps)
 {
   const double r = sqrt(in.r2);
   kernel_w_gradfac_pre(kernel, r, in.inv_h, in.wnorm, ps.w, ps.wfac);
@@ -84,8 +73,8 @@ SPHCUT_PAIR_INLINE void pair_scalars(int kernel, const In &in, PairScalars &ps)
   ps.w_rho = ps.w / (0.5 * (in.rho_i + in.rho_j));
 }
 
-template <int DIM, class In>
-SPHCUT_PAIR_INLINE void pair_finish(const In &in, const PairScalars &ps, PairOut &out)
+template <int DIM>
+SPHCUT_PAIR_INLINE void pair_finish(const PairIn &in, const PairScalars &ps, PairOut &out)
 {
   out.w = ps.w;
   out.w_rho = ps.w_rho;
@@ -107,8 +96,8 @@ SPHCUT_PAIR_INLINE void pair_finish(const In &in, const PairScalars &ps, PairOut
   }
 }
 
-template <int DIM, class In>
-SPHCUT_PAIR_INLINE void pair_terms(int kernel, const In &in, PairOut &out)
+template <int DIM>
+SPHCUT_PAIR_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
 {
   PairScalars ps;
   pair_scalars<DIM>(kernel, in, ps);
@@ -142,7 +131,7 @@ SPHCUT_INLINE TypePair mix_type_pair(const Material &mi, const Material &mj, dou
   return tp;
 }
 
-template <class In> SPHCUT_INLINE void set_type_pair(const TypePair &tp, In &in)
+SPHCUT_INLINE void set_type_pair(const TypePair &tp, PairIn &in)
 {
   in.h = tp.h;
   in.inv_h = tp.inv_h;
@@ -178,8 +167,8 @@ enum PairAcc {
    weights so that a driver adding both sides computes them once; B is
    symmetric (g is parallel to dx): only its upper triangle (a <= b) is
    summed, particle_rates mirrors it.                                      */
-template <int DIM, class In, class Add>
-SPHCUT_PAIR_INLINE void pair_accumulate(const In &in, const PairOut &out, double mm, double m_o,
+template <int DIM, class Add>
+SPHCUT_PAIR_INLINE void pair_accumulate(const PairIn &in, const PairOut &out, double mm, double m_o,
                                         double V_o, double side, Add &&add)
 {
   const double fs = side * mm, xs = side * m_o;
@@ -262,8 +251,8 @@ SPHCUT_PAIR_INLINE double hourglass_error_dx(const double *dx, const double *dv,
 /* the hourglass term of pair i-j: Mg (force on i = m_i m_j Mg) and its work
    dv.Mg; wfac from pair_scalars (grad_i W = wfac dx), rho_bar = (rho_i +
    rho_j)/2                                                                 */
-template <int DIM, class In>
-SPHCUT_PAIR_INLINE void hourglass_pair(double kappa, const In &in, double wfac, const double *L_i,
+template <int DIM>
+SPHCUT_PAIR_INLINE void hourglass_pair(double kappa, const PairIn &in, double wfac, const double *L_i,
                                        const double *L_j, double *Mg, double &work)
 {
   const double edx = hourglass_error_dx<DIM>(in.dx, in.dv, L_i, L_j);
@@ -310,17 +299,16 @@ SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, dou
 }
 
 /* ---- a particle's packed row: what its neighbours read of it -------------
-   One row per particle (local and ghost), built once per force evaluation,
-   instead of pieces of x, the state row, mask, type, mass, sigma and R:
-   position, predicted velocity, density, mass (0: not in the SPH solid,
-   skipped: only its position is packed), sigma/rho^2 and the artificial
-   stress.  NPK = 20 doubles: the neighbour loads are what the pair kernel's
-   time goes to on a GPU (L1-bound), so the device row carries nothing the
-   kernel can form from it (the volume m/rho).  A host driver stores the rows
-   contiguously and may extend them past NPK with values derived from them
-   (PK_VOL, PK_HASR: the CPU pair's per-pair division and test of R saved;
-   pack_row_extension); the GPU driver stores them by columns (its row type,
-   see RowRef, reads the tensors through StridedRef).                       */
+   One contiguous row per particle (local and ghost), built once per force
+   evaluation, instead of pieces of x, the state row, mask, type, mass, sigma
+   and R: position, predicted velocity, density, mass (0: not in the SPH
+   solid, skipped: only its position is packed), sigma/rho^2 and the
+   artificial stress.  NPK = 20 doubles, 160 bytes (5 sectors of 32 bytes):
+   the neighbour loads are what the pair kernel's time goes to on a GPU
+   (L1-bound), so the device row carries nothing the kernel can form from it
+   (the volume m/rho).  A host driver may extend the row past NPK with values
+   derived from it (PK_VOL, PK_HASR: the CPU pair's per-pair division and
+   test of R saved; pack_row_extension).                                    */
 enum PackedRow : int {
   PK_X = 0,       // position (3)
   PK_V = 3,       // predicted velocity (3, state VEST)
@@ -367,57 +355,36 @@ SPHCUT_INLINE void pack_row_extension(int with_as, double *row)
       if (row[PK_R + k] != 0.0) row[PK_HASR] = 1.0;
 }
 
-/* a particle's packed row read in place: a contiguous row (the CPU pair's, a host backend's).  A
-   driver whose rows lie in another layout (the GPU's, by columns) passes its own row type with
-   the same two members: operator[](k), the value of column k, and tensor(k), a reference (the
-   T of PairInT) to the six values from column k on (sigma/rho^2, R).                         */
-struct RowRef {
-  const double *p;
-  SPHCUT_INLINE double operator[](int k) const { return p[k]; }
-  SPHCUT_INLINE const double *tensor(int k) const { return p + k; }
-};
-
 // particle i's side of its pairs from its row: position, velocity, density and sigma/rho^2
 // (R_i: the driver's choice, see unpack_j)
-template <class Row, class In> SPHCUT_INLINE void unpack_i(const Row &r, double *xi, double *vi, In &in)
-{
-  for (int a = 0; a < 3; a++) {
-    xi[a] = r[PK_X + a];
-    vi[a] = r[PK_V + a];
-  }
-  in.rho_i = r[PK_RHO];
-  in.A_i = r.tensor(PK_A);
-}
-
 SPHCUT_INLINE void unpack_i(const double *pi, double *xi, double *vi, PairIn &in)
 {
-  unpack_i(RowRef{pi}, xi, vi, in);
+  for (int a = 0; a < 3; a++) {
+    xi[a] = pi[PK_X + a];
+    vi[a] = pi[PK_V + a];
+  }
+  in.rho_i = pi[PK_RHO];
+  in.A_i = &pi[PK_A];
 }
 
 // the inputs of pair i-j from j's row: false when j is beyond the cutoff (or on top of i), or
-// not in the SPH solid (mj 0; loaded only within the cutoff).  in.R_j refers to j's artificial
-// stress; pair_terms reads R_i and R_j only where the driver set in.R_i (null: no artificial
+// not in the SPH solid (mj 0; loaded only within the cutoff).  in.R_j points to j's artificial
+// stress; pair_terms reads R_i and R_j only where the driver set in.R_i (nullptr: no artificial
 // stress term), so a driver without artificial stress loads neither.
-template <class Row, class In>
-SPHCUT_INLINE bool unpack_j(const Row &r, const TypePair &tp, const double *xi, const double *vi, In &in, double &mj)
-{
-  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - r[PK_X + a];
-  in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
-  if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
-  mj = r[PK_M];
-  if (mj == 0.0) return false;
-  for (int a = 0; a < 3; a++) in.dv[a] = r[PK_V + a] - vi[a];
-  set_type_pair(tp, in);
-  in.rho_j = r[PK_RHO];
-  in.A_j = r.tensor(PK_A);
-  in.R_j = r.tensor(PK_R);
-  return true;
-}
-
 SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair &tp, const double *xi, const double *vi, PairIn &in,
                             double &mj)
 {
-  return unpack_j(RowRef{pj}, tp, xi, vi, in, mj);
+  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pj[PK_X + a];
+  in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+  if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
+  mj = pj[PK_M];
+  if (mj == 0.0) return false;
+  for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - vi[a];
+  set_type_pair(tp, in);
+  in.rho_j = pj[PK_RHO];
+  in.A_j = &pj[PK_A];
+  in.R_j = &pj[PK_R];
+  return true;
 }
 
 }    // namespace sphcut
