@@ -18,8 +18,8 @@ enum EosKind { EOS_LINEAR = 0, EOS_MIE_GRUNEISEN = 1 };
 enum FlowKind { FLOW_JC = 0, FLOW_TANH = 1 };
 // what a particle below the pressure cutoff carries (pair_coeff keyword spall, with pmin):
 // cutoff: the pressure pmin and its deviatoric stress (LS-DYNA's spall type 1); release: no
-// stress at all (pressure and deviatoric stress zero in the forces) while its EOS pressure is
-// below pmin, the material separated there
+// stress at all while its EOS pressure is below pmin, the material separated there (pressure
+// and deviatoric stress zero, no plastic flow, and it expands no further: spall_density)
 enum SpallKind { SPALL_CUTOFF = 0, SPALL_RELEASE = 1 };
 
 // Plain-old-data material record, one per atom type (copyable to the device).
@@ -101,6 +101,23 @@ SPHCUT_INLINE double pressure_cutoff(const Material &mat, double p)
 {
   if (mat.pmin < 0.0 && p < mat.pmin) return mat.spall == SPALL_RELEASE ? 0.0 : mat.pmin;
   return p;
+}
+
+/* spall release: the density of a particle after an update from rho_old to rho_new at the
+   temperature T.  A particle already released by the spall (the EOS pressure of rho_old below
+   pmin) that would expand further keeps rho_old: the material separated there, and what opens is
+   the gap between the particles, not the material (its density would otherwise fall without
+   bound, to a fifth of the reference density at the free surface of a shear band, and give that
+   particle five times its volume in its neighbours' sums).  The step that takes a particle below
+   pmin is kept (it releases the particle), and so is compression (rho_new >= rho_old): a
+   released particle that is pushed back carries its stress again once its EOS pressure has come
+   back above pmin.  Without spall release rho_new.                                             */
+SPHCUT_INLINE double spall_density(const Material &mat, double rho_old, double rho_new, double T)
+{
+  if (mat.spall == SPALL_RELEASE && mat.pmin < 0.0 && rho_new < rho_old &&
+      eos_pressure_uncut(mat, rho_old, T) < mat.pmin)
+    return rho_old;
+  return rho_new;
 }
 
 SPHCUT_INLINE double eos_pressure(const Material &mat, double rho, double T)

@@ -10,7 +10,8 @@
        predictor and after the corrector (with the heat that takes), the held
        conduction rate before the corrector;
      second half (final_integrate): kick, corrector y^{n+1} = y^n + dt/2
-       (f^n + f^{n+1}) of rho, s, u, T, radial return, plastic heat chi W_p;
+       (f^n + f^{n+1}) of rho, s, u, T, radial return, plastic heat chi W_p
+       (a particle released by the spall: no expansion, s = 0, no plastic flow);
      time step   the stable dt of the particle (mechanics, conduction).
    Rigid tool particles move with their prescribed velocity and carry only
    a temperature; clamped particles stay at rest but keep their stress.
@@ -44,9 +45,9 @@ SPHCUT_INLINE void initial_row(double *s, double temp0)
 // predictor of the material state: the force state of this step
 SPHCUT_INLINE void predict_state(const Material &mt, double dt, double *s)
 {
-  s[SL::RHO_F] = s[SL::RHO] + dt * s[SL::DRHO_O];
-  for (int k = 0; k < 6; k++) s[SL::SF + k] = s[SL::SXX + k] + dt * s[SL::DS_O + k];
   s[SL::TEMP_F] = s[SL::TEMP] + dt * s[SL::DTEMP_O];
+  s[SL::RHO_F] = spall_density(mt, s[SL::RHO], s[SL::RHO] + dt * s[SL::DRHO_O], s[SL::TEMP_F]);
+  for (int k = 0; k < 6; k++) s[SL::SF + k] = s[SL::SXX + k] + dt * s[SL::DS_O + k];
   radial_return(mt, &s[SL::SF], s[SL::EPS], s[SL::TEMP_F], dt, nullptr, s[SL::EPSDOT] * dt);
 }
 
@@ -155,11 +156,14 @@ SPHCUT_INLINE double integrate_second_half(const Material &mt, int role, double 
   if (role != SL::TOOL) {
     if (role == SL::WORKPIECE)
       for (int d = 0; d < 3; d++) v[d] += dtfm * f[d];
-    s[SL::RHO] += hdt * (s[SL::DRHO_O] + s[SL::DRHO]);
+    s[SL::RHO] = spall_density(mt, s[SL::RHO], s[SL::RHO] + hdt * (s[SL::DRHO_O] + s[SL::DRHO]), s[SL::TEMP]);
     for (int k = 0; k < 6; k++) s[SL::SXX + k] += hdt * (s[SL::DS_O + k] + s[SL::DS + k]);
     s[SL::UINT] += hdt * (s[SL::DU_O] + s[SL::DU]);
-    double sigy = 0.0;
-    const double deps = radial_return(mt, &s[SL::SXX], s[SL::EPS], s[SL::TEMP], dt, &sigy, s[SL::EPSDOT] * dt);
+    double sigy = 0.0, deps = 0.0;
+    if (spall_released(mt, eos_pressure_uncut(mt, s[SL::RHO], s[SL::TEMP])))
+      for (int k = 0; k < 6; k++) s[SL::SXX + k] = 0.0;    // separated: no deviatoric stress, no plastic flow
+    else
+      deps = radial_return(mt, &s[SL::SXX], s[SL::EPS], s[SL::TEMP], dt, &sigy, s[SL::EPSDOT] * dt);
     s[SL::EPS] += deps;
     s[SL::EPSDOT] = deps / dt;
     if (deps > 0.0) {

@@ -3,6 +3,7 @@
 // viscosity and stress, eigen decomposition and inverse
 #include "sphcut_material.h"
 #include "sphcut_pair.h"
+#include "sphcut_solid.h"
 
 #include <gtest/gtest.h>
 
@@ -237,6 +238,88 @@ TEST(Material, SpallRelease)
   none.pmin = 0.0;
   EXPECT_FALSE(spall_released(none, -1.0e12));
   EXPECT_EQ(pressure_cutoff(none, -1.0e12), -1.0e12);
+}
+
+// spall release in the integration of one particle (sphcut_solid.h, spall_density): a particle
+// expanded below pmin keeps its density and carries no deviatoric stress, no plastic flow, no
+// plastic heat, while the same steps with spall cutoff expand it on and heat it; pushed back
+// (a positive density rate) it is compressed again and above pmin carries its stress again
+TEST(Material, SpallReleaseIntegration)
+{
+  Material cut = ti64();
+  cut.pmin = -4.0e9;
+  cut.chi = 0.9;
+  Material rel = cut;
+  rel.spall = SPALL_RELEASE;
+  using SL = StateLayout;
+  const double dt = 1.0e-9, m = 1.0e-12;
+  // the density at which the EOS gives pmin (linear in rho at 300 K for both EOS kinds below rho0)
+  double lo = 0.5 * cut.rho0, hi = cut.rho0;
+  for (int it = 0; it < 200; it++) {
+    const double mid = 0.5 * (lo + hi);
+    (eos_pressure_uncut(cut, mid, 300.0) < cut.pmin ? lo : hi) = mid;
+  }
+  const double rho_pmin = hi;
+  auto start = [&](double *s) {
+    for (int k = 0; k < SL::NCOL; k++) s[k] = 0.0;
+    s[SL::RHO] = 1.001 * rho_pmin;    // just above the cutoff
+    s[SL::TEMP] = 300.0;
+    s[SL::EPS] = 0.1;
+    const double dev[6] = {5.0e8, -2.5e8, -2.5e8, 2.0e8, 0.0, 0.0};    // von Mises 0.83 GPa, below yield
+    for (int k = 0; k < 6; k++) s[SL::SXX + k] = dev[k];
+    // expanding at 1 % per 10 steps and sheared (the rates of the last step and of this one)
+    s[SL::DRHO_O] = s[SL::DRHO] = -1.0e-3 * rho_pmin / dt;
+    s[SL::DS_O] = s[SL::DS] = 5.0e16;    // to the yield surface in a few steps
+    s[SL::DS_O + 1] = s[SL::DS + 1] = -5.0e16;
+  };
+  double sr[SL::NCOL], sc[SL::NCOL];
+  start(sr);
+  start(sc);
+  const double f[3] = {0.0, 0.0, 0.0};
+  double v[3] = {0.0, 0.0, 0.0}, x[3] = {0.0, 0.0, 0.0};
+  double work_rel = 0.0, work_cut = 0.0;
+  for (int n = 0; n < 40; n++) {
+    for (double *s : {sr, sc}) {
+      const Material &mt = s == sr ? rel : cut;
+      const double drho = s[SL::DRHO], ds0 = s[SL::DS], ds1 = s[SL::DS + 1];
+      integrate_first_half(mt, SL::WORKPIECE, dt, 0.0, x, v, f, s);
+      s[SL::DRHO] = drho;    // the pair's rates of this step: the same expansion and shear
+      s[SL::DS] = ds0;
+      s[SL::DS + 1] = ds1;
+      const double w = integrate_second_half(mt, SL::WORKPIECE, dt, 0.0, m, v, f, s);
+      (s == sr ? work_rel : work_cut) += w;
+    }
+  }
+  EXPECT_LT(eos_pressure_uncut(cut, sc[SL::RHO], sc[SL::TEMP]), cut.pmin) << "the cutoff run went below pmin";
+  EXPECT_LT(sc[SL::RHO], 0.97 * rho_pmin) << "with the cutoff the particle expands on";
+  EXPECT_GT(sr[SL::RHO], 0.998 * rho_pmin) << "released: no expansion beyond one step below the cutoff";
+  EXPECT_TRUE(spall_released(rel, eos_pressure_uncut(rel, sr[SL::RHO], sr[SL::TEMP])));
+  EXPECT_LE(sr[SL::RHO_F], sr[SL::RHO] * (1.0 + 1e-12)) << "the force state's density held too";
+  EXPECT_GE(sr[SL::RHO_F], sr[SL::RHO] * (1.0 - 1e-12));
+  for (int k = 0; k < 6; k++) EXPECT_EQ(sr[SL::SXX + k], 0.0) << "released: no deviatoric stress";
+  EXPECT_NE(sc[SL::SXX], 0.0);
+  EXPECT_EQ(sr[SL::EPSDOT], 0.0) << "released: no plastic flow";
+  EXPECT_GT(work_cut, 0.0) << "the cutoff run flows plastically";
+  EXPECT_EQ(work_rel, 0.0) << "released (after its first step) before it yields: no plastic work";
+  EXPECT_LT(sr[SL::TEMP], sc[SL::TEMP]);
+  // pushed back: compressed again, and above pmin it carries its deviatoric stress again
+  sr[SL::DRHO_O] = sr[SL::DRHO] = 1.0e-3 * rho_pmin / dt;
+  const double rho_before = sr[SL::RHO];
+  for (int n = 0; n < 5; n++) {
+    integrate_first_half(rel, SL::WORKPIECE, dt, 0.0, x, v, f, sr);
+    sr[SL::DRHO] = 1.0e-3 * rho_pmin / dt;
+    sr[SL::DS] = 1.0e16;
+    integrate_second_half(rel, SL::WORKPIECE, dt, 0.0, m, v, f, sr);
+  }
+  EXPECT_NEAR(sr[SL::RHO], rho_before * 1.005, 1e-3 * rho_before) << "compression as without the release";
+  EXPECT_FALSE(spall_released(rel, eos_pressure_uncut(rel, sr[SL::RHO], sr[SL::TEMP])));
+  EXPECT_NE(sr[SL::SXX], 0.0) << "recompressed above pmin: stress again";
+  // spall_density leaves everything else alone
+  EXPECT_EQ(spall_density(cut, 4000.0, 3000.0, 300.0), 3000.0) << "cutoff: expansion as it is";
+  EXPECT_EQ(spall_density(rel, 3000.0, 4000.0, 300.0), 4000.0) << "release: compression as it is";
+  EXPECT_EQ(spall_density(rel, 4430.0, 4429.0, 300.0), 4429.0) << "release above pmin: as it is";
+  EXPECT_EQ(spall_density(rel, 4300.0, 3000.0, 300.0), 3000.0) << "release: the step below pmin is kept";
+  EXPECT_EQ(spall_density(rel, 3000.0, 2900.0, 300.0), 3000.0) << "release below pmin: held";
 }
 
 // total stress = deviator - p I
