@@ -159,7 +159,8 @@ lowspeed() {
 # dumps every 100 steps and on one CPU core (CPU styles): is it the scheme or the port?  The bad
 # particles' histories and their neighbours go to $OUT/watch.txt (bench/gpu/watch.py).
 # WATCH_ARGS: more settings of the example (e.g. "-var hdx 1.3": the runaways of doc/validation.md;
-# the example picks 1.5 from 41 across).  A warm machine continues.
+# the example picks 1.5 from 41 across); WATCH_MODES: the reruns (default "gpu cpu").  A warm
+# machine continues.
 watch() {
   local ny=${NY:-41}; local d=$W/watch-$ny
   mkdir -p $d; cd $d
@@ -181,7 +182,7 @@ watch() {
   local old; old=$(ls -tr r.a r.b 2>/dev/null | head -1)
   [ -n "$old" ] || { cd "$ROOT"; return 0; }
   local s0; s0=$(grep -m1 "halt condition" log.watch | grep -o "step [0-9]*" | awk '{print $2}')
-  for mode in gpu cpu; do
+  for mode in ${WATCH_MODES:-gpu cpu}; do
     mkdir -p $d/re-$mode && cp $old $d/re-$mode/restart.cutting && cd $d/re-$mode
     # a restart written under -k on is read with -k on only (atom style atomic/kk); the CPU styles
     # then run with Kokkos' atoms and run_style verlet/kk (unittest/test_kokkos.cpp)
