@@ -45,7 +45,7 @@ build() {
 
 # a second plugin, the baseline of a speed comparison (cutting.sh ab), built against the same
 # dependencies from .carry/b-src.tar.gz (made here with  git archive -o .carry/b-src.tar.gz COMMIT)
-# into build-cuda-b; BIN_B its lmp_sphcut, LAMMPS_PLUGIN_PATH_B its plugin folder
+# into build-cuda-b (its lmp_sphcut: BIN_B; its plugin folder goes in LAMMPS_PLUGIN_PATH for B runs)
 BIN_B="$ROOT/build-cuda-b/lmp_sphcut"
 build_b() {
   build
