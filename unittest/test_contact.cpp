@@ -821,6 +821,7 @@ TEST(StlErrors, WarnsAboutParticlesStartingInside)
       one_particle(l, dim, x0);
       l.cmds({"fix tool all contact/tri-penalty stl thick.stl", "run 0"});
       EXPECT_EQ(log_of(l).find("inside the tool"), std::string::npos);
+      EXPECT_EQ(log_of(l).find("within the contact radius"), std::string::npos) << "5 mm away: no warning";
     }
     Lammps l(MPI_COMM_WORLD, {"-log", "inside.log"});
     const double x0[3] = {0.0, 0.005, 0.0};
@@ -833,8 +834,15 @@ TEST(StlErrors, WarnsAboutParticlesStartingInside)
                        "(0 on it, the deepest 0.007 below it)"),
               std::string::npos)
         << log;
+    // the one 0.3 mm outside lies within the contact radius 0.5 h/sfac = 0.54 mm: an impulsive start
+    EXPECT_NE(log.find("WARNING: Fix contact/tri-penalty: 1 particle(s) start within the contact radius 0.5 h/sfac "
+                       "of the tool"),
+              std::string::npos)
+        << log;
     l.cmd("run 0");    // once, at the first setup
     EXPECT_EQ(log_of(l).find("inside the tool", log.find("inside the tool") + 20), std::string::npos);
+    EXPECT_EQ(log_of(l).find("within the contact radius", log.find("within the contact radius") + 20),
+              std::string::npos);
   }
 }
 
