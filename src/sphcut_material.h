@@ -114,8 +114,8 @@ SPHCUT_INLINE double pressure_cutoff(const Material &mat, double p)
    back above pmin.  Without spall release rho_new.                                             */
 SPHCUT_INLINE double spall_density(const Material &mat, double rho_old, double rho_new, double T)
 {
-  if (mat.spall == SPALL_RELEASE && mat.pmin < 0.0 && rho_new < rho_old &&
-      eos_pressure_uncut(mat, rho_old, T) < mat.pmin)
+  // (the kind first: without spall release no EOS evaluation on this path)
+  if (mat.spall == SPALL_RELEASE && rho_new < rho_old && spall_released(mat, eos_pressure_uncut(mat, rho_old, T)))
     return rho_old;
   return rho_new;
 }
