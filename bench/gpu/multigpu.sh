@@ -209,14 +209,16 @@ scaling() {
   mkdir -p $W/scale; cd $W/scale
   local nz0=${NZ:-232} mode n
   for mode in ${MGPU_MIGRATE:-device host}; do
+    # without a 1-GPU run of its own, weak takes the strong 1-GPU run of the call (the same input)
     local r1=""
+    [ $kind = weak ] && [ -f log.strong.$mode.1 ] && r1=$(rate_of log.strong.$mode.1)
     for n in ${MGPU_NP:-1 2 4}; do
       [ "$n" -le "$NGPU" ] || { say "$kind: $n GPUs skipped (this machine has $NGPU)"; continue; }
       local nz=$nz0
       [ $kind = weak ] && nz=$(( nz0 * n ))
       local tag=$kind.$mode.$n
       scale_run $n $mode $nz $tag || continue
-      [ -z "$r1" ] && [ "$n" -eq 1 ] && r1=$(rate_of log.$tag)
+      [ "$n" -eq 1 ] && r1=$(rate_of log.$tag)
       report "$kind migrate $mode, $n GPU(s), nz $nz" $tag $n "$r1"
     done
   done
