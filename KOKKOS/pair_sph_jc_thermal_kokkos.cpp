@@ -22,38 +22,38 @@
 #include "sphcut_kokkos.h"
 #include "sphcut_pair.h"
 
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 
 using namespace LAMMPS_NS;
 using sphcut::StateLayout;
-using sphcut::NPK;
 using sphcut::PK_M;
-using sphcut::PK_R;
 
 namespace {
 
-/* what a particle's neighbours read of it: one packed row (sphcut_pair.h PackedRow, 160 bytes, 5
-   memory sectors) built in the stress pass (sphcut::pack_row), read by the neighbour passes
-   (sphcut::unpack_i, unpack_j).  The pair kernel's cost is the irregular loads of its
-   neighbours' data (Nsight Compute: L1-bound, not DRAM- or FLOP-bound); one contiguous row
-   instead of pieces of x, the 49-column state row, mask, type, mass, sigma and R halves the
-   sectors each neighbour costs.  The device row has no host extension (NPK columns).           */
+/* what a particle's neighbours read of it: one packed row (sphcut_pair.h PackedRow: 128 bytes, 4
+   memory sectors, without artificial stress) built in the stress pass (sphcut::pack_row), read by
+   the neighbour passes (sphcut::unpack_i, unpack_j) in 16-byte pairs.  The pair kernel's cost is
+   the irregular loads of its neighbours' data (Nsight Compute: L1-bound, not DRAM- or
+   FLOP-bound); one contiguous row instead of pieces of x, the 49-column state row, mask, type,
+   mass, sigma and R cuts the sectors and load instructions each neighbour costs.  The device row
+   has no host extension (sphcut::pack_width columns).                                           */
 
 // particle i's side of its pairs, from its packed row; R_i with artificial stress
 template <class PK>
 KOKKOS_INLINE_FUNCTION void gather_i(const PK &pk, int i, int any_as, double *xi, double *vi, sphcut::PairIn &in)
 {
-  sphcut::unpack_i(&pk(i, 0), xi, vi, in);
-  in.R_i = any_as ? &pk(i, PK_R) : nullptr;
+  sphcut::unpack_i(&pk(i, 0), any_as, xi, vi, in);
 }
 
-// the inputs of pair i-j; false when j is beyond the cutoff or not in the SPH solid
+// the inputs of pair i-j (tprow: i's type pairs); false when j is beyond the cutoff or not in the
+// SPH solid; mj, Vj: mass and volume of j
 template <class PK>
-KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair &tp, int j, const double *xi,
-                                     const double *vi, sphcut::PairIn &in, double &mj)
+KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair *tprow, int j, const double *xi,
+                                     const double *vi, sphcut::PairIn &in, double &mj, double &Vj)
 {
-  return sphcut::unpack_j(&pk(j, 0), tp, xi, vi, in, mj);
+  return sphcut::unpack_j(&pk(j, 0), tprow, xi, vi, in, mj, Vj);
 }
 
 // the rates of particle i from its neighbour sums, into its state row
@@ -186,9 +186,18 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int dim = domain->dimension;
+  int any_as = 0;
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (mdl.material(t).defined && mdl.material(t).as_eps > 0.0) any_as = 1;
+  const int pk_cols = sphcut::pack_width(any_as);
+  if (atom->nmax > nmax_kk || (int) d_pack.extent(1) != pk_cols) {
+    d_pack = typename AT::t_double_2d("pair:pack", atom->nmax, pk_cols);
+    // the neighbour passes read the rows in 16-byte pairs (sphcut::load2)
+    if (reinterpret_cast<std::uintptr_t>(d_pack.data()) % 16 != 0)
+      error->one(FLERR, "Pair sph/jc-thermal/kk: the packed rows are not 16-byte aligned");
+  }
   if (atom->nmax > nmax_kk) {
     nmax_kk = atom->nmax;
-    d_pack = typename AT::t_double_2d("pair:pack", nmax_kk, NPK);
     if (neighflag != FULL) {
       memoryKK->destroy_kokkos(k_acc);
       k_acc = DAT::tdual_double_2d("pair:acc", nmax_kk, sphcut::NACC);
@@ -198,10 +207,6 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     memoryKK->destroy_kokkos(k_lgrad);
     k_lgrad = DAT::tdual_double_2d("pair:lgrad", nmax_kk, 9);
   }
-  int any_as = 0;
-  for (int t = 1; t <= atom->ntypes; t++)
-    if (mdl.material(t).defined && mdl.material(t).as_eps > 0.0) any_as = 1;
-
   fixkk->k_state.template sync<DeviceType>();
   stress_pass(nall, any_as);
   const int inum = list->inum;
@@ -276,10 +281,10 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
         const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
         if (!(av.mask(i) & gb) || sphcut::role_from_mask(av.mask(i), tb, cb) == SL::TOOL) {
-          sphcut::pack_outside(xi, &pk(i, 0));    // not in the SPH solid: its neighbours skip it
+          sphcut::pack_outside(xi, av.type(i), &pk(i, 0));    // not in the SPH solid: its neighbours skip it
           return;
         }
-        sphcut::pack_row(mt(av.type(i)), dim, any_as, xi, &av.st(i, 0),
+        sphcut::pack_row(mt(av.type(i)), dim, any_as, xi, av.type(i), &av.st(i, 0),
                          use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
       });
 }
@@ -312,15 +317,16 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
         for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
         sphcut::PairIn in;
         sphcut::PairOut out;
-        double xi[3], vi[3], mj;
+        double xi[3], vi[3], mj, Vj;
         gather_i(nv.pk, i, any_as, xi, vi, in);
-        const double Vi = mi / in.rho_i;
+        const double Vi = nv.pk(i, sphcut::PK_VOL);
+        const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) continue;
+          if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
-          sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{acc});
+          sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{acc});
           if (HALF && (NEWTON || j < nlocal))
             sphcut::pair_accumulate<DIM>(in, out, mi * mj, mi, Vi, -1.0, AtomicAdd<DeviceType>{accv, nv.f, j});
         }
@@ -399,17 +405,18 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
         sphcut::PairIn in_i;
         double xi[3], vi[3];
         gather_i(nv.pk, i, any_as, xi, vi, in_i);
+        const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         PairSums sums;
         Kokkos::parallel_reduce(
             Kokkos::ThreadVectorRange(team, nv.numneigh(i)),
             [&](const int jj, PairSums &s) {
               const int j = nv.neighbors(i, jj) & NEIGHMASK;
               sphcut::PairIn in = in_i;
-              double mj;
-              if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) return;
+              double mj, Vj;
+              if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) return;
               sphcut::PairOut out;
               sphcut::pair_terms<DIM>(kind, in, out);
-              sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, mj / in.rho_j, 1.0, LocalAdd{s.v});
+              sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{s.v});
             },
             sums);
         Kokkos::single(Kokkos::PerThread(team), [&]() {
@@ -439,13 +446,14 @@ void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
         if (mi == 0.0) return;    // not in the SPH solid
         const int itype = nv.type(i);
         sphcut::PairIn in;
-        double xi[3], vi[3], mj;
+        double xi[3], vi[3], mj, Vj;
         gather_i(nv.pk, i, 0, xi, vi, in);
+        const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         double hi[4] = {0.0, 0.0, 0.0, 0.0};
         const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(nv.pk, nv.tpt(itype * ntp + nv.type(j)), j, xi, vi, in, mj)) continue;
+          if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
           double w, wfac, Mg[3], work;
           sphcut::kernel_w_gradfac_pre(kind, sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
           sphcut::hourglass_pair<DIM>(kappa, in, wfac, &nv.lg(i, 0), &nv.lg(j, 0), Mg, work);
@@ -540,7 +548,7 @@ void PairSPHJCThermalKokkos<DeviceType>::unpack_reverse_comm(int n, int *list, d
 template <class DeviceType> double PairSPHJCThermalKokkos<DeviceType>::memory_usage()
 {
   const int nhg = mdl.hourglass_coefficient() > 0.0 ? 9 : 0;
-  return (double) nmax_kk * (NPK + (neighflag == FULL ? 0 : sphcut::NACC) + nhg) * sizeof(double);
+  return (double) nmax_kk * ((int) d_pack.extent(1) + (neighflag == FULL ? 0 : sphcut::NACC) + nhg) * sizeof(double);
 }
 
 namespace LAMMPS_NS {

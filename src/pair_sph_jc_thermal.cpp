@@ -52,12 +52,9 @@ static constexpr int NREVERSE = sphcut::NACC_REVERSE;
 enum CommMode { COMM_ACC = 0, COMM_HG = 1 };
 
 // a particle's packed row: what its neighbours read of it (sphcut_pair.h PackedRow, the /kk pair's
-// layout; sphcut::pack_row, unpack_i, unpack_j), with the host extension (the volume m/rho and
-// whether the artificial stress is nonzero: a division and a test per pair saved)
-using sphcut::NPK_HOST;
-using sphcut::PK_HASR;
+// layout; sphcut::pack_row, unpack_i, unpack_j), at full width
+using sphcut::NPK;
 using sphcut::PK_M;
-using sphcut::PK_R;
 using sphcut::PK_VOL;
 
 /* ---------------------------------------------------------------------- */
@@ -112,7 +109,7 @@ void PairSPHJCThermal::grow_scratch(int n)
   if (n <= nmax) return;
   nmax = n;
   free_scratch();
-  memory->create(pack, nmax, NPK_HOST, "pair:pack");
+  memory->create(pack, nmax, NPK, "pair:pack");
   memory->create(acc, nmax, sphcut::NACC, "pair:acc");
   if (mdl.hourglass_coefficient() > 0.0) {
     memory->create(lgrad, nmax, 9, "pair:lgrad");
@@ -217,11 +214,10 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
       for (int k = 0; k < sphcut::NACC; k++) acc[i][k] = 0.0;
     double *p = pack[i];
     if (!(mask[i] & groupbit) || sphcut::role_from_mask(mask[i], toolbit, clampbit) == F::TOOL) {
-      sphcut::pack_outside(x[i], p);
+      sphcut::pack_outside(x[i], type[i], p);
       continue;
     }
-    sphcut::pack_row(mat[type[i]], dim, any_as, x[i], st[i], rmass ? rmass[i] : mass[type[i]], p);
-    sphcut::pack_row_extension(any_as, p);
+    sphcut::pack_row(mat[type[i]], dim, any_as, x[i], type[i], st[i], rmass ? rmass[i] : mass[type[i]], p);
   }
 
   if (dim == 2) {
@@ -280,7 +276,6 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     if (mi == 0.0) continue;    // not in the SPH solid
     const sphcut::TypePair *tpi = mdl.type_pair_row(type[i]);
     const double vi = pi[PK_VOL];
-    const bool ri = any_as && pi[PK_HASR] != 0.0;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     if ((int) nbr_j.size() < jnum) {
@@ -290,16 +285,12 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
 
     // the inputs of pair i-j from the packed rows; false beyond the cutoff, or when j is not
     // in the SPH solid
-    sphcut::PairIn in;
+    sphcut::PairIn in{};    // (zeroed: GCC cannot see that the second pass gathers only pairs the first accepted)
     double xi[3], veli[3];
-    sphcut::unpack_i(pi, xi, veli, in);
-    auto gather = [&](int j, const double *pj) {
-      double mj;
-      if (!sphcut::unpack_j(pj, tpi[type[j]], xi, veli, in, mj)) return false;
-      // the artificial stress term of a pair whose two tensors are zero (compression) adds
-      // exactly nothing: skipped
-      in.R_i = (ri || (any_as && pj[PK_HASR] != 0.0)) ? &pi[PK_R] : nullptr;
-      return true;
+    sphcut::unpack_i(pi, any_as, xi, veli, in);
+    auto gather = [&](const double *pj) {
+      double mj, Vj;
+      return sphcut::unpack_j(pj, tpi, xi, veli, in, mj, Vj);
     };
 
     // first pass: the pairs within the cutoff and their scalars (the long chains of sqrt,
@@ -307,7 +298,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     int npair = 0;
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      if (!gather(j, pk[j])) continue;
+      if (!gather(pk[j])) continue;
       sphcut::pair_scalars<DIM>(mdl.kernel(), in, nbr_s[npair]);
       nbr_j[npair++] = j;
     }
@@ -318,7 +309,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
     for (int n = 0; n < npair; n++) {
       const int j = nbr_j[n];
       const double *pj = pk[j];
-      gather(j, pj);
+      gather(pj);
       sphcut::PairOut out;
       sphcut::pair_finish<DIM>(in, nbr_s[n], out);
       const double mj = pj[PK_M], mm = mi * mj;
@@ -391,14 +382,14 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
     const sphcut::TypePair *tpi = mdl.type_pair_row(type[i]);
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
-    sphcut::PairIn in;
+    sphcut::PairIn in{};    // (zeroed: GCC cannot see that the second pass gathers only pairs the first accepted)
     double xi[3], veli[3];
-    sphcut::unpack_i(pi, xi, veli, in);
+    sphcut::unpack_i(pi, 0, xi, veli, in);
     double hi[4] = {0.0, 0.0, 0.0, 0.0};
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
-      double mj;
-      if (!sphcut::unpack_j(pk[j], tpi[type[j]], xi, veli, in, mj)) continue;
+      double mj, Vj;
+      if (!sphcut::unpack_j(pk[j], tpi, xi, veli, in, mj, Vj)) continue;
       double w, wfac;
       sphcut::kernel_w_gradfac_pre(mdl.kernel(), sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
       double Mg[3], work;
@@ -486,5 +477,5 @@ void PairSPHJCThermal::read_restart_settings(FILE *fp)
 
 double PairSPHJCThermal::memory_usage()
 {
-  return (double) nmax * (NPK_HOST + sphcut::NACC + (mdl.hourglass_coefficient() > 0.0 ? 13 : 0)) * sizeof(double);
+  return (double) nmax * (NPK + sphcut::NACC + (mdl.hourglass_coefficient() > 0.0 ? 13 : 0)) * sizeof(double);
 }

@@ -35,6 +35,22 @@
 
 namespace sphcut {
 
+/* two adjacent doubles from a 16-byte aligned address: on a GPU one 128-bit load through the
+   read-only path (the neighbour passes' rows, sphcut_pair.h PackedRow: half the load
+   instructions of scalar loads, and the L1 cost of an irregular load is per instruction);
+   on the host two plain loads.  The same values either way.                               */
+SPHCUT_INLINE void load2(const double *p, double &a, double &b)
+{
+#if defined(__CUDA_ARCH__)
+  const double2 v = __ldg(reinterpret_cast<const double2 *>(p));
+  a = v.x;
+  b = v.y;
+#else
+  a = p[0];
+  b = p[1];
+#endif
+}
+
 enum Voigt { XX = 0, YY = 1, ZZ = 2, XY = 3, XZ = 4, YZ = 5 };
 
 SPHCUT_INLINE double sq(double x) { return x * x; }

@@ -24,8 +24,10 @@ struct PairIn {
   double h, inv_h, wnorm;     // smoothing length, 1/h, kernel normalisation sigma_d/h^d
   double inv_wdp;             // 1/W(particle spacing)
   double rho_i, rho_j;
-  const double *A_i, *A_j;    // Cauchy stress over rho^2, sigma/rho^2 (Voigt; particle_stress)
-  const double *R_i, *R_j;    // artificial stress tensors (nullptr: none)
+  double A_i[6], A_j[6];      // Cauchy stress over rho^2, sigma/rho^2 (Voigt; particle_stress)
+  const double *R_i, *R_j;    // artificial stress tensors (R_i nullptr: no artificial stress term)
+  const double *R_own;        // i's artificial stress (nullptr: none in the run; unpack_i)
+  bool r_own;                 // i's R is nonzero
   double as_n;                // artificial stress exponent
   double alpha, beta, cbar;   // artificial viscosity
 };
@@ -86,7 +88,13 @@ SPHCUT_PAIR_INLINE void pair_finish(const PairIn &in, const PairScalars &ps, Pai
   M[YY] -= ps.pi;
   M[ZZ] -= ps.pi;
   if (in.R_i)
-    for (int k = 0; k < 6; k++) M[k] += ps.fn * (in.R_i[k] + in.R_j[k]);
+    for (int k = 0; k < 6; k += 2) {
+      double ri0, ri1, rj0, rj1;
+      load2(in.R_i + k, ri0, ri1);
+      load2(in.R_j + k, rj0, rj1);
+      M[k] += ps.fn * (ri0 + rj0);
+      M[k + 1] += ps.fn * (ri1 + rj1);
+    }
   sym_apply(M, out.g, out.Mg);
   out.dvg = 0.0;
   out.work = 0.0;
@@ -285,8 +293,11 @@ SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, dou
 {
   const double p_eos = eos_pressure_uncut(mt, rho_f, temp_f);
   if (spall_released(mt, p_eos)) {
-    // separated (spall release): no stress, so no artificial stress either
-    for (int k = 0; k < 6; k++) A[k] = R[k] = 0.0;
+    // separated (spall release): no stress, so no artificial stress either (R written only
+    // with_as: a row without artificial stress has no room for it)
+    for (int k = 0; k < 6; k++) A[k] = 0.0;
+    if (with_as)
+      for (int k = 0; k < 6; k++) R[k] = 0.0;
     return;
   }
   double sig[6];
@@ -301,89 +312,108 @@ SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, dou
 /* ---- a particle's packed row: what its neighbours read of it -------------
    One contiguous row per particle (local and ghost), built once per force
    evaluation, instead of pieces of x, the state row, mask, type, mass, sigma
-   and R: position, predicted velocity, density, mass (0: not in the SPH
-   solid, skipped: only its position is packed), sigma/rho^2 and the
-   artificial stress.  NPK = 20 doubles, 160 bytes (5 sectors of 32 bytes):
-   the neighbour loads are what the pair kernel's time goes to on a GPU
-   (L1-bound), so the device row carries nothing the kernel can form from it
-   (the volume m/rho).  A host driver may extend the row past NPK with values
-   derived from it (PK_VOL, PK_HASR: the CPU pair's per-pair division and
-   test of R saved; pack_row_extension).                                    */
+   and R: position, type (negative when the particle's artificial stress
+   is nonzero), mass (0: not in the SPH solid, skipped: only its position
+   and type are packed), volume m/rho, predicted velocity, density,
+   sigma/rho^2 and the artificial stress.  The neighbour loads are what the
+   pair kernel's time goes to on a GPU (L1-bound: the cost of an irregular
+   load is per instruction and per sector), so the row is read in 16-byte
+   pairs (load2: one 128-bit load each on a GPU), in the order the pair
+   needs them: position and type (the cutoff of the type pair), then mass
+   and volume (a particle outside the solid stops there), then the rest.
+   A row without artificial stress is NPK_NOAS = 16 doubles (128 bytes, 4
+   sectors of 32 bytes), with it NPK = 24 (R and padding); a pair loads R
+   only where one of its two particles has a nonzero R (the sign of the
+   type: under compression R is zero, and a term of two zero tensors adds
+   exactly nothing).                                                        */
 enum PackedRow : int {
   PK_X = 0,       // position (3)
-  PK_V = 3,       // predicted velocity (3, state VEST)
-  PK_RHO = 6,     // density of the force state (RHO_F)
-  PK_M = 7,       // mass; 0: not in the SPH solid (outside the group, or a tool particle)
-  PK_A = 8,       // sigma/rho^2 (6, Voigt; particle_stress)
-  PK_R = 14,      // artificial stress (6; written only when some material has one)
-  NPK = 20,
-  // host extension (the CPU pair's rows only)
-  PK_VOL = NPK,          // m/rho (the division mj / rho_j, the same value)
-  PK_HASR = NPK + 1,     // 1 when R is nonzero (a pair whose two R are zero skips the term)
-  NPK_HOST = NPK + 2
+  PK_TYPE = 3,    // atom type (a double: read with the position, for the type pair's cutoff);
+                  // -type when the artificial stress R is nonzero
+  PK_M = 4,       // mass; 0: not in the SPH solid (outside the group, or a tool particle)
+  PK_VOL = 5,     // volume m/rho
+  PK_V = 6,       // predicted velocity (3, state VEST)
+  PK_RHO = 9,     // density of the force state (RHO_F)
+  PK_A = 10,      // sigma/rho^2 (6, Voigt; particle_stress)
+  NPK_NOAS = 16,  // the row's width without artificial stress
+  PK_R = 16,      // artificial stress (6; only in rows of width NPK, when some material has one)
+  NPK = 24        // the row's width with artificial stress (16-byte multiple: load2 alignment)
 };
 
-// the packed row of a particle outside the SPH solid: its position, mass 0
-SPHCUT_INLINE void pack_outside(const double *x, double *row)
+// the width of a row (its stride): with or without room for the artificial stress
+SPHCUT_INLINE int pack_width(int with_as) { return with_as ? NPK : NPK_NOAS; }
+
+// the packed row of a particle outside the SPH solid: its position and type, mass 0
+SPHCUT_INLINE void pack_outside(const double *x, int type, double *row)
 {
   for (int a = 0; a < 3; a++) row[PK_X + a] = x[a];
+  row[PK_TYPE] = type;
   row[PK_M] = 0.0;
+  row[PK_VOL] = 0.0;
 }
 
-// the packed row of a particle of the SPH solid from its position, its state row s (the force
-// state of fix sph/jc-thermal: RHO_F, SF, TEMP_F, VEST), its mass and material
-SPHCUT_INLINE void pack_row(const Material &mt, int dim, int with_as, const double *x, const double *s, double m,
-                            double *row)
+// the packed row of a particle of the SPH solid from its position, type, its state row s (the
+// force state of fix sph/jc-thermal: RHO_F, SF, TEMP_F, VEST), its mass and material
+SPHCUT_INLINE void pack_row(const Material &mt, int dim, int with_as, const double *x, int type, const double *s,
+                            double m, double *row)
 {
   using SL = StateLayout;
   for (int a = 0; a < 3; a++) {
     row[PK_X + a] = x[a];
     row[PK_V + a] = s[SL::VEST + a];
   }
+  row[PK_TYPE] = type;
   row[PK_RHO] = s[SL::RHO_F];
   row[PK_M] = m;
+  row[PK_VOL] = m / s[SL::RHO_F];
   particle_stress(mt, dim, with_as, s[SL::RHO_F], s[SL::TEMP_F], &s[SL::SF], &row[PK_A], &row[PK_R]);
-}
-
-// the host extension of a packed row (after pack_row)
-SPHCUT_INLINE void pack_row_extension(int with_as, double *row)
-{
-  row[PK_VOL] = row[PK_M] / row[PK_RHO];
-  row[PK_HASR] = 0.0;
   if (with_as)
     for (int k = 0; k < 6; k++)
-      if (row[PK_R + k] != 0.0) row[PK_HASR] = 1.0;
+      if (row[PK_R + k] != 0.0) row[PK_TYPE] = -type;
 }
 
-// particle i's side of its pairs from its row: position, velocity, density and sigma/rho^2
-// (R_i: the driver's choice, see unpack_j)
-SPHCUT_INLINE void unpack_i(const double *pi, double *xi, double *vi, PairIn &in)
+// the type of a packed row
+SPHCUT_INLINE int row_type(double t) { return (int) (t < 0.0 ? -t : t); }
+
+// particle i's side of its pairs from its row: position, velocity, density and sigma/rho^2, and
+// with_as (some material has an artificial stress) its R for unpack_j
+SPHCUT_INLINE void unpack_i(const double *pi, int with_as, double *xi, double *vi, PairIn &in)
 {
-  for (int a = 0; a < 3; a++) {
-    xi[a] = pi[PK_X + a];
-    vi[a] = pi[PK_V + a];
-  }
-  in.rho_i = pi[PK_RHO];
-  in.A_i = &pi[PK_A];
+  double t;
+  load2(pi + PK_X, xi[0], xi[1]);
+  load2(pi + PK_X + 2, xi[2], t);
+  in.R_own = with_as ? pi + PK_R : nullptr;
+  in.r_own = with_as && t < 0.0;
+  load2(pi + PK_V, vi[0], vi[1]);
+  load2(pi + PK_V + 2, vi[2], in.rho_i);
+  for (int k = 0; k < 6; k += 2) load2(pi + PK_A + k, in.A_i[k], in.A_i[k + 1]);
 }
 
-// the inputs of pair i-j from j's row: false when j is beyond the cutoff (or on top of i), or
-// not in the SPH solid (mj 0; loaded only within the cutoff).  in.R_j points to j's artificial
-// stress; pair_terms reads R_i and R_j only where the driver set in.R_i (nullptr: no artificial
-// stress term), so a driver without artificial stress loads neither.
-SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair &tp, const double *xi, const double *vi, PairIn &in,
-                            double &mj)
+// the inputs of pair i-j from j's row and the row tprow of i's type pairs (tprow[type of j]):
+// false when j is beyond the cutoff (or on top of i), or not in the SPH solid (mj 0; loaded
+// only within the cutoff); mj and Vj the mass and volume of j.  The artificial stress term:
+// in.R_i and R_j point to the two tensors where one of them is nonzero, else in.R_i is nullptr
+// (pair_terms skips the term and loads neither).
+SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const double *xi, const double *vi, PairIn &in,
+                            double &mj, double &Vj)
 {
-  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - pj[PK_X + a];
+  double xj[3], tj;
+  load2(pj + PK_X, xj[0], xj[1]);
+  load2(pj + PK_X + 2, xj[2], tj);
+  for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - xj[a];
   in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
+  const TypePair &tp = tprow[row_type(tj)];
   if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
-  mj = pj[PK_M];
+  load2(pj + PK_M, mj, Vj);
   if (mj == 0.0) return false;
-  for (int a = 0; a < 3; a++) in.dv[a] = pj[PK_V + a] - vi[a];
+  double vj[3];
+  load2(pj + PK_V, vj[0], vj[1]);
+  load2(pj + PK_V + 2, vj[2], in.rho_j);
+  for (int a = 0; a < 3; a++) in.dv[a] = vj[a] - vi[a];
   set_type_pair(tp, in);
-  in.rho_j = pj[PK_RHO];
-  in.A_j = &pj[PK_A];
-  in.R_j = &pj[PK_R];
+  for (int k = 0; k < 6; k += 2) load2(pj + PK_A + k, in.A_j[k], in.A_j[k + 1]);
+  in.R_i = in.R_own && (in.r_own || tj < 0.0) ? in.R_own : nullptr;
+  in.R_j = pj + PK_R;
   return true;
 }
 
