@@ -43,6 +43,7 @@
 #include "sphcut_kokkos.h"
 #include "sphcut_thermal.h"
 
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -50,7 +51,15 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 namespace {
-constexpr int NW = 1 + 3 * 3 + 3;    // scheme flag, Gf (3x3), z (3)
+// k_fwts: a pad, then the NW communicated columns: the scheme flag (FW0) and the FMFS weights,
+// Gf (3x3) and z (3), 16-byte aligned for sphcut::load_weights
+// (enumerators: constants a device lambda may take by reference)
+enum FmfsColumns : int { NW = 1 + 3 * 3 + 3, FW0 = 1, NWCOL = FW0 + NW + 1 };
+// a particle's heat row (build_heat_rows, local + ghost, per evaluation): what its neighbours
+// read of it, in 16-byte pairs (sphcut::load2): position, type (0: not in the fix's group),
+// volume m/rho of the predicted density, predicted temperature; 2 sectors of 32 bytes
+// instead of pieces of x, mask, type, mass and the 49-column state row
+enum HeatRow { HR_X = 0, HR_TYPE = 3, HR_VOL = 4, HR_T = 5, NHR = 6 };
 }    // namespace
 
 template <class DeviceType>
@@ -153,6 +162,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
     sphcut::FencedTimer timer(cpu_time);
     atomKK->sync(execution_space, datamask_read);
     fixkk->k_state.template sync<DeviceType>();
+    build_heat_rows();
     if (conservative) {
       if (domain->dimension == 2) conduction_conservative_kk<2>();
       else conduction_conservative_kk<3>();
@@ -200,51 +210,56 @@ template <class DeviceType> struct LAMMPS_NS::HeatFMFSViews {
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const double *, mem> hij;
   Kokkos::View<const sphcut::ThermalPair *, mem> tp;
-  typename ArrayTypes<DeviceType>::t_double_2d fw;
+  typename ArrayTypes<DeviceType>::t_double_2d fw, hr;
   int nt, kern, gb, use_rmass;
-  KOKKOS_INLINE_FUNCTION double volume(int j) const
-  {
-    return (use_rmass ? av.rmass(j) : av.mass(av.type(j))) / av.st(j, FixSPHJCThermal::RHO_F);
-  }
 };
 
 namespace {
 
-// the listed neighbours of particle i as the sphcut_thermal.h particle functions read them:
-// the pair's support and kernel computed on the fly (one walk)
+// the listed neighbours of particle i as the sphcut_thermal.h particle functions read them, from
+// the heat rows: the pair's support and kernel computed on the fly (one walk)
 template <class DeviceType> struct DeviceNeighbours {
   static constexpr bool TWO_WALKS = false;
   const HeatFMFSViews<DeviceType> &d;
   int i, itn;    // itn: the row of i's type in the type-pair tables
   double xi[3];
   KOKKOS_INLINE_FUNCTION DeviceNeighbours(const HeatFMFSViews<DeviceType> &d_, int i_) :
-      d(d_), i(i_), itn(d_.av.type(i_) * d_.nt), xi{d_.av.x(i_, 0), d_.av.x(i_, 1), d_.av.x(i_, 2)}
+      d(d_), i(i_), itn(d_.av.type(i_) * d_.nt), xi{d_.hr(i_, HR_X), d_.hr(i_, HR_X + 1), d_.hr(i_, HR_X + 2)}
   {
   }
   KOKKOS_INLINE_FUNCTION int size() const { return d.av.numneigh(i); }
+  KOKKOS_INLINE_FUNCTION int type(int j) const { return (int) d.hr(j, HR_TYPE); }
+  // the position and type of j (type 0: not in the group)
+  KOKKOS_INLINE_FUNCTION int pos_type(int j, double *xj) const
+  {
+    double t;
+    sphcut::load2(&d.hr(j, HR_X), xj[0], xj[1]);
+    sphcut::load2(&d.hr(j, HR_X + 2), xj[2], t);
+    return (int) t;
+  }
   KOKKOS_INLINE_FUNCTION int index(int k) const
   {
     const int j = d.av.neighbors(i, k) & NEIGHMASK;
-    return d.av.mask(j) & d.gb ? j : -1;
+    return type(j) > 0 ? j : -1;
   }
   KOKKOS_INLINE_FUNCTION void pos(int j, double *xj) const
   {
-    for (int a = 0; a < 3; a++) xj[a] = d.av.x(j, a);
+    for (int a = 0; a < 3; a++) xj[a] = d.hr(j, HR_X + a);
   }
-  KOKKOS_INLINE_FUNCTION double h(int j) const { return d.hij(itn + d.av.type(j)); }
+  KOKKOS_INLINE_FUNCTION double h(int j) const { return d.hij(itn + type(j)); }
   KOKKOS_INLINE_FUNCTION bool pair(int k, sphcut::HeatPair &p) const
   {
-    p.j = index(k);
-    if (p.j < 0) return false;
-    p.tp = &d.tp(itn + d.av.type(p.j));
+    p.j = d.av.neighbors(i, k) & NEIGHMASK;
     double xj[3], r2;
-    pos(p.j, xj);
+    const int tj = pos_type(p.j, xj);
+    if (tj == 0) return false;
+    p.tp = &d.tp(itn + tj);
     return sphcut::thermal_support(*p.tp, d.kern, xi, xj, p.dx, r2, p.wfac, p.ir2);
   }
-  KOKKOS_INLINE_FUNCTION double volume(int j) const { return d.volume(j); }
-  KOKKOS_INLINE_FUNCTION double temp(int j) const { return d.av.st(j, FixSPHJCThermal::TEMP_F); }
-  KOKKOS_INLINE_FUNCTION const double *weights(int j) const { return &d.fw(j, 0); }
-  KOKKOS_INLINE_FUNCTION double kappa(int j) const { return d.mat(d.av.type(j)).kappa; }
+  KOKKOS_INLINE_FUNCTION double volume(int j) const { return d.hr(j, HR_VOL); }
+  KOKKOS_INLINE_FUNCTION double temp(int j) const { return d.hr(j, HR_T); }
+  KOKKOS_INLINE_FUNCTION const double *weights(int j) const { return &d.fw(j, FW0); }
+  KOKKOS_INLINE_FUNCTION double kappa(int j) const { return d.mat(type(j)).kappa; }
 };
 }    // namespace
 
@@ -256,11 +271,35 @@ template <class DeviceType> HeatFMFSViews<DeviceType> FixHeatFMFSKokkos<DeviceTy
   d.hij = d_hij;
   d.tp = d_tp;
   d.fw = k_fwts.template view<DeviceType>();
+  d.hr = d_hrow;
   d.nt = atom->ntypes + 1;
   d.kern = model->kernel();
   d.gb = groupbit;
   d.use_rmass = atom->rmass_flag;
   return d;
+}
+
+/* the heat rows of the local and ghost particles (HeatRow), from the values the neighbour
+   passes read: the same values, one contiguous row per particle */
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::build_heat_rows()
+{
+  using F = FixSPHJCThermal;
+  const int nall = atom->nlocal + atom->nghost;
+  if ((int) d_hrow.extent(0) < atom->nmax) {
+    d_hrow = typename AT::t_double_2d("heat/fmfs:hrow", atom->nmax, NHR);
+    if (reinterpret_cast<std::uintptr_t>(d_hrow.data()) % 16 != 0)
+      error->one(FLERR, "Fix heat/fmfs/kk: the heat rows are not 16-byte aligned");
+  }
+  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
+  auto hr = d_hrow;
+  const int gb = groupbit, use_rmass = atom->rmass_flag;
+  Kokkos::parallel_for("sphcut:heat:rows", sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
+    for (int a = 0; a < 3; a++) hr(i, HR_X + a) = av.x(i, a);
+    const int in = av.mask(i) & gb;
+    hr(i, HR_TYPE) = in ? av.type(i) : 0;
+    hr(i, HR_VOL) = in ? (use_rmass ? av.rmass(i) : av.mass(av.type(i))) / av.st(i, F::RHO_F) : 0.0;
+    hr(i, HR_T) = av.st(i, F::TEMP_F);
+  });
 }
 
 /* the non-conservative form (FixHeatFMFS::conduction): sphcut::conduction_particle per particle */
@@ -311,7 +350,11 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
    forward communication of the weights, the exchange pass */
 template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType>::conduction_conservative_kk()
 {
-  if ((int) k_fwts.extent(0) < atom->nmax) k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NW);
+  if ((int) k_fwts.extent(0) < atom->nmax) {
+    k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NWCOL);
+    if (reinterpret_cast<std::uintptr_t>(k_fwts.template view<DeviceType>().data()) % 16 != 0)
+      error->one(FLERR, "Fix heat/fmfs/kk: the FMFS weights are not 16-byte aligned");
+  }
   k_fwts.template sync<DeviceType>();
   typename AT::t_double_2d surf;
   if (surfkk) {
@@ -340,7 +383,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
   const double flam = fmfs_lambda, thr = surfkk ? surfkk->threshold : 0.0;
   double nf = 0.0, nb = 0.0, nfb = 0.0;
   Kokkos::parallel_for("sphcut:heat:zero_weights",
-      sphcut::range<DeviceType>(0, atom->nlocal + atom->nghost), KOKKOS_LAMBDA(const int i) { fw(i, 0) = 0.0; });
+      sphcut::range<DeviceType>(0, atom->nlocal + atom->nghost), KOKKOS_LAMBDA(const int i) { fw(i, FW0) = 0.0; });
   if (fuse)
     Kokkos::parallel_for(
         "sphcut:heat:zero_surface", sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
@@ -364,8 +407,8 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
           for (int a = 0; a < DIM; a++) surf(i, CS::NX + a) = sv.n[a];
         }
         if (s == sphcut::HEAT_FMFS) {
-          for (int k = 0; k < NW - 1; k++) fw(i, 1 + k) = wts[k];
-          fw(i, 0) = 1.0;
+          for (int k = 0; k < NW - 1; k++) fw(i, FW0 + 1 + k) = wts[k];
+          fw(i, FW0) = 1.0;
         }
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
       },
@@ -403,7 +446,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         if (mi.cp <= 0.0) return;
         const double Ti = d.av.st(i, F::TEMP_F);
         // (NoAdd: V_i is not needed)
-        const double rate = sphcut::heat_exchange<DIM>(DeviceNeighbours<DeviceType>(d, i), mi.kappa, Ti, 0.0, &fw(i, 0),
+        const double rate = sphcut::heat_exchange<DIM>(DeviceNeighbours<DeviceType>(d, i), mi.kappa, Ti, 0.0, &fw(i, FW0),
                                                        sphcut::NoAdd{});
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
@@ -422,26 +465,26 @@ template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
                                                             DAT::tdual_double_1d &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_fwts, 0, NW, n, k_sendlist, 0, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_fwts, FW0, NW, n, k_sendlist, 0, k_buf);
 }
 
 template <class DeviceType>
 void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
 {
-  sphcut::unpack_columns<DeviceType>(k_fwts, 0, NW, n, first, k_buf);
+  sphcut::unpack_columns<DeviceType>(k_fwts, FW0, NW, n, first, k_buf);
 }
 #else
 template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
                                                                  DAT::tdual_xfloat_1d &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_fwts, 0, NW, n, k_sendlist, iswap, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_fwts, FW0, NW, n, k_sendlist, iswap, k_buf);
 }
 
 template <class DeviceType>
 void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
 {
-  sphcut::unpack_columns<DeviceType>(k_fwts, 0, NW, n, first, k_buf);
+  sphcut::unpack_columns<DeviceType>(k_fwts, FW0, NW, n, first, k_buf);
 }
 #endif
 
@@ -449,12 +492,12 @@ void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int fi
 template <class DeviceType>
 int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)
 {
-  return stage_fwts.pack(k_fwts, 0, NW, n, list_, buf);
+  return stage_fwts.pack(k_fwts, FW0, NW, n, list_, buf);
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm(int n, int first, double *buf)
 {
-  stage_fwts.unpack(k_fwts, 0, NW, n, first, buf);
+  stage_fwts.unpack(k_fwts, FW0, NW, n, first, buf);
 }
 
 /* ----------------------------------------------------------------------

@@ -65,7 +65,9 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;
   Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;
   sphcut::StagedColumns<DeviceType> stage_fwts;    // k_fwts's rows on the classic (host) forward communication
-  DAT::tdual_double_2d k_fwts;    // scheme flag and FMFS weights, local + ghost
+  DAT::tdual_double_2d k_fwts;    // (a pad,) scheme flag and FMFS weights, local + ghost
+  typename AT::t_double_2d d_hrow;    // the heat rows (build_heat_rows), local + ghost
+  void build_heat_rows();
   HeatFMFSViews<DeviceType> heat_views();    // what the heat kernels read
   template <int DIM> void conduction_kk();
   template <int DIM> void conduction_conservative_kk();

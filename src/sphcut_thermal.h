@@ -1006,24 +1006,37 @@ SPHCUT_INLINE void exchange_sides(const ThermalPair &tp, const double *dx, doubl
   s_ji = wj ? kj * fmfs_pair_weight_radial<DIM>(wj, mdx, ir2) : tp.brook;
 }
 
+// the FMFS weights of a particle (DIM*DIM + DIM of them, an even count) into registers, in
+// 16-byte pairs (load2: w must be 16-byte aligned where a GPU reads it)
+template <int DIM> SPHCUT_INLINE void load_weights(const double *w, double *out)
+{
+  for (int k = 0; k < DIM * DIM + DIM; k += 2) load2(w + k, out[k], out[k + 1]);
+}
+
 /* second pass, one particle i (conductivity ki, predicted temperature Ti, volume Vi, scheme
-   flag and FMFS weights wi as weights(i) of the view): the pairwise exchange with the
+   flag and FMFS weights wi as weights(i) of the view; weights(j) + 1 16-byte aligned, as
+   load_weights reads them): the pairwise exchange with the
    conductance c_ij = wfac conductance_pair (the mean of the two sides, Brookshaw's where that
    is anti-diffusive).  Returns i's rho cp dT/dt from these pairs, sum_j V_j c_ij (T_j - T_i);
    what each pair gives j, -V_i c_ij (T_j - T_i), goes to add(j, value).                      */
 template <int DIM, class Nb, class Add>
 SPHCUT_LOOP_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, double Vi, const double *wi, Add &&add)
 {
-  const double *fi = wi[0] > 0.0 ? wi + 1 : nullptr;
+  // i's weights once, in registers; j's in 16-byte pairs
+  double fi[DIM * DIM + DIM], fj[DIM * DIM + DIM];
+  const bool wfi = wi[0] > 0.0;
+  if (wfi) load_weights<DIM>(wi + 1, fi);
   double ri = 0.0;
   const int n = nb.size();
   for (int k = 0; k < n; k++) {
     HeatPair p;
     if (!nb.pair(k, p)) continue;
     const double *wj = nb.weights(p.j);
-    const double *fj = wj[0] > 0.0 ? wj + 1 : nullptr;
+    const bool wfj = wj[0] > 0.0;
+    if (wfj) load_weights<DIM>(wj + 1, fj);
     double s_ij, s_ji;
-    exchange_sides<DIM>(*p.tp, p.dx, p.ir2, ki, fi, fj ? nb.kappa(p.j) : 0.0, fj, s_ij, s_ji);
+    exchange_sides<DIM>(*p.tp, p.dx, p.ir2, ki, wfi ? fi : nullptr, wfj ? nb.kappa(p.j) : 0.0, wfj ? fj : nullptr,
+                        s_ij, s_ji);
     const double c = p.wfac * conductance_pair(s_ij, s_ji, p.tp->brook), dT = nb.temp(p.j) - Ti;
     ri += nb.volume(p.j) * c * dT;
     add(p.j, -(Vi * c * dT));
