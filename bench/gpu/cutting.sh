@@ -38,7 +38,8 @@
 #   ab       speed of this tree (A) against a baseline (B: .carry/b-src.tar.gz, build_b of common.sh),
 #            in turn AB_REPS times (default 2): the 2D cut in contact at AB_NY (41) across, PROF_STEPS
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
-#            steps (particle-steps/s)
+#            steps (particle-steps/s); AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
+#            (kernel times)
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -535,6 +536,21 @@ ab() {
       done
     done
   done
+  # AB_KP=NZ: each variant's 3D slab at NZ layers once more under kp_timer (synchronised kernel
+  # times; the first lines of its table per variant)
+  if [ -n "${AB_KP:-}" ]; then
+    local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
+    g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart \
+      || { say "ab: kp_timer build failed"; cd "$ROOT"; return 1; }
+    for v in A B; do
+      local bin=$BIN pp=$ROOT/build-cuda; [ $v = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b
+      KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.ab$v.txt LAMMPS_PLUGIN_PATH=$pp timeout 200 "$bin" \
+        $GPUK $NEV -in "$EX3" -var ny 41 -var nz $AB_KP -var xstart 1 -var steps ${BENCH_STEPS:-200} -var thermoevery 100 \
+        -var printevery 100 -log log.abkp$v > screen.abkp$v 2>&1 || tail -3 screen.abkp$v
+      say "  ab$v 3D nz $AB_KP under kp_timer:"
+      head -${AB_KP_LINES:-20} $W/kp.ab$v.txt | sed 's/^/    /' >> "$SUM"
+    done
+  fi
   cd "$ROOT"
 }
 
