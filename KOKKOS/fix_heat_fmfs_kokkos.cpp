@@ -54,12 +54,15 @@ namespace {
 // k_fwts: a pad, then the NW communicated columns: the scheme flag (FW0) and the FMFS weights,
 // Gf (3x3) and z (3), 16-byte aligned for sphcut::load_weights
 // (enumerators: constants a device lambda may take by reference)
-enum FmfsColumns : int { NW = 1 + 3 * 3 + 3, FW0 = 1, NWCOL = FW0 + NW + 1 };
+enum FmfsColumns : int { NW = 1 + 3 * 3 + 3, FW0 = 1, NWCOL = FW0 + NW };
+// rows of 16-byte multiples, so that each row's weights (column FW0 + 1) are 16-byte aligned
+static_assert(NWCOL % 2 == 0 && (FW0 + 1) % 2 == 0, "FMFS weights not 16-byte aligned");
 // a particle's heat row (build_heat_rows, local + ghost, per evaluation): what its neighbours
 // read of it, in 16-byte pairs (sphcut::load2): position, type (0: not in the fix's group),
 // volume m/rho of the predicted density, predicted temperature; 2 sectors of 32 bytes
 // instead of pieces of x, mask, type, mass and the 49-column state row
 enum HeatRow { HR_X = 0, HR_TYPE = 3, HR_VOL = 4, HR_T = 5, NHR = 6 };
+static_assert(NHR % 2 == 0, "heat rows not 16-byte multiples");
 }    // namespace
 
 template <class DeviceType>
