@@ -5,7 +5,8 @@
 # then through the device tool (carry .carry):  bash bench/gpu/cutting.sh MODE [MODE ...]
 #   check    CPU (1 rank, CPU styles) vs GPU per-atom state after 1000 steps in contact: the 2D
 #            quick cut (11 across) and the 3D cut with free sides (6 across, 3 layers); <= 1e-8; the
-#            same with the pair's hourglass 0.1
+#            same with the pair's hourglass 0.1; CHECK_VARS more -var settings (e.g. "-var precision
+#            mixed"), CHECK_TOL the tolerance (default 1e-8)
 #   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
 #   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces; in
 #            segments with CUT_END (restart files, continued by the next call)
@@ -70,19 +71,21 @@ EOI
 
 check() {
   cd $W
-  local v2="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0 -var decomp 7"
-  local v3="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100"
+  local v2="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0 -var decomp 7 ${CHECK_VARS:-}"
+  local v3="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100 ${CHECK_VARS:-}"
+  local tol=${CHECK_TOL:-1e-8}
+  [ -n "${CHECK_VARS:-}" ] && say "check with $CHECK_VARS, tolerance $tol"
   snapshot "$EX2" cpu2.dump $v2 && snapshot "$EX2" gpu2.dump $GPUK $v2 && \
-    say "check 2D cut, CPU vs GPU after 1000 steps ($(grep -m1 -A0 'f_cut\[5\]' log.gpu2 >/dev/null; awk '/^ +1000 /{print "contact particles " $9}' log.gpu2)): $(python3 $ROOT/bench/gpu/compare.py cpu2.dump gpu2.dump 1e-8 | tr '\n' ' ')"
+    say "check 2D cut, CPU vs GPU after 1000 steps ($(grep -m1 -A0 'f_cut\[5\]' log.gpu2 >/dev/null; awk '/^ +1000 /{print "contact particles " $9}' log.gpu2)): $(python3 $ROOT/bench/gpu/compare.py cpu2.dump gpu2.dump $tol | tr '\n' ' ')"
   snapshot "$EX3" cpu3.dump $v3 && snapshot "$EX3" gpu3.dump $GPUK $v3 && \
-    say "check 3D cut (free sides), CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpu3.dump gpu3.dump 1e-8 | tr '\n' ' ')"
+    say "check 3D cut (free sides), CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpu3.dump gpu3.dump $tol | tr '\n' ' ')"
   # the hourglass control under /kk (its second pass and the ghosts' L by forward communication)
   local hg='s|^pair_style   sph/jc-thermal kernel cubic|& hourglass 0.1|'
   sed "$hg" "$EX2" > $W/in.hg2 && sed "$hg" "$EX3" > $W/in.hg3
   snapshot $W/in.hg2 cpuhg2.dump $v2 && snapshot $W/in.hg2 gpuhg2.dump $GPUK $v2 && \
-    say "check 2D cut with hourglass 0.1, CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpuhg2.dump gpuhg2.dump 1e-8 | tr '\n' ' ')"
+    say "check 2D cut with hourglass 0.1, CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpuhg2.dump gpuhg2.dump $tol | tr '\n' ' ')"
   snapshot $W/in.hg3 cpuhg3.dump $v3 && snapshot $W/in.hg3 gpuhg3.dump $GPUK $v3 && \
-    say "check 3D cut with hourglass 0.1, CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpuhg3.dump gpuhg3.dump 1e-8 | tr '\n' ' ')"
+    say "check 3D cut with hourglass 0.1, CPU vs GPU after 1000 steps: $(python3 $ROOT/bench/gpu/compare.py cpuhg3.dump gpuhg3.dump $tol | tr '\n' ' ')"
   say "  hourglass 0.1 vs none (2D GPU; must differ: the control acts): $(python3 $ROOT/bench/gpu/compare.py gpu2.dump gpuhg2.dump 1e-8 | grep -o 'max relative difference [^ ]*')"
   # the force decomposition by tool feature (vector 16-47, formed on the device from the contact
   # records when read): every 7th step of the 2D check, CPU vs GPU
