@@ -40,21 +40,20 @@ namespace {
    mass, sigma and R cuts the sectors and load instructions each neighbour costs.  The device row
    has no host extension (sphcut::pack_width columns).                                           */
 
-// particle i's side of its pairs, from its packed row; R_i with artificial stress (MIXED:
-// precision mixed)
-template <bool MIXED, class PK>
+// particle i's side of its pairs, from its packed row; R_i with artificial stress
+template <class PK>
 KOKKOS_INLINE_FUNCTION void gather_i(const PK &pk, int i, int any_as, double *xi, double *vi, sphcut::PairIn &in)
 {
-  sphcut::unpack_i<MIXED>(&pk(i, 0), any_as, xi, vi, in);
+  sphcut::unpack_i(&pk(i, 0), any_as, xi, vi, in);
 }
 
 // the inputs of pair i-j (tprow: i's type pairs); false when j is beyond the cutoff or not in the
 // SPH solid; mj, Vj: mass and volume of j
-template <bool MIXED, class PK>
+template <class PK>
 KOKKOS_INLINE_FUNCTION bool gather_j(const PK &pk, const sphcut::TypePair *tprow, int j, const double *xi,
                                      const double *vi, sphcut::PairIn &in, double &mj, double &Vj)
 {
-  return sphcut::unpack_j<MIXED>(&pk(j, 0), tprow, xi, vi, in, mj, Vj);
+  return sphcut::unpack_j(&pk(j, 0), tprow, xi, vi, in, mj, Vj);
 }
 
 // the rates of particle i from its neighbour sums, into its state row
@@ -190,8 +189,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   int any_as = 0;
   for (int t = 1; t <= atom->ntypes; t++)
     if (mdl.material(t).defined && mdl.material(t).as_eps > 0.0) any_as = 1;
-  const int mixed = mdl.mixed_precision();
-  const int pk_cols = sphcut::pack_width(any_as, mixed);
+  const int pk_cols = sphcut::pack_width(any_as);
   if (atom->nmax > nmax_kk || (int) d_pack.extent(1) != pk_cols) {
     d_pack = typename AT::t_double_2d("pair:pack", atom->nmax, pk_cols);
     // the neighbour passes read the rows in 16-byte pairs (sphcut::load2)
@@ -215,11 +213,11 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   if (neighflag == FULL) {
     const int lanes = team_lanes(inum);
     if (lanes > 0) {
-      if (dim == 2) mixed ? neigh_pass_team<2, 1>(inum, any_as, lanes) : neigh_pass_team<2, 0>(inum, any_as, lanes);
-      else mixed ? neigh_pass_team<3, 1>(inum, any_as, lanes) : neigh_pass_team<3, 0>(inum, any_as, lanes);
+      if (dim == 2) neigh_pass_team<2>(inum, any_as, lanes);
+      else neigh_pass_team<3>(inum, any_as, lanes);
     } else {
-      if (dim == 2) mixed ? neigh_pass<2, 0, 0, 1>(inum, any_as) : neigh_pass<2, 0, 0, 0>(inum, any_as);
-      else mixed ? neigh_pass<3, 0, 0, 1>(inum, any_as) : neigh_pass<3, 0, 0, 0>(inum, any_as);
+      if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
+      else neigh_pass<3, 0, 0>(inum, any_as);
     }
     if (mdl.hourglass_coefficient() > 0.0) {
       // the hourglass control (sphcut::hourglass_pair): L of the local particles from the
@@ -229,8 +227,8 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
         sphcut::forward_comm(comm, this);
         k_lgrad.template sync<DeviceType>();
       }
-      if (dim == 2) mixed ? hourglass_pass<2, 1>(inum) : hourglass_pass<2, 0>(inum);
-      else mixed ? hourglass_pass<3, 1>(inum) : hourglass_pass<3, 0>(inum);
+      if (dim == 2) hourglass_pass<2>(inum);
+      else hourglass_pass<3>(inum);
     }
   } else {
     const int newton = force->newton_pair;
@@ -242,11 +240,11 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
           for (int k = 0; k < sphcut::NACC; k++) acc(i, k) = 0.0;
         });
     if (dim == 2) {
-      if (mixed) newton ? neigh_pass<2, 1, 1, 1>(inum, any_as) : neigh_pass<2, 1, 0, 1>(inum, any_as);
-      else newton ? neigh_pass<2, 1, 1, 0>(inum, any_as) : neigh_pass<2, 1, 0, 0>(inum, any_as);
+      if (newton) neigh_pass<2, 1, 1>(inum, any_as);
+      else neigh_pass<2, 1, 0>(inum, any_as);
     } else {
-      if (mixed) newton ? neigh_pass<3, 1, 1, 1>(inum, any_as) : neigh_pass<3, 1, 0, 1>(inum, any_as);
-      else newton ? neigh_pass<3, 1, 1, 0>(inum, any_as) : neigh_pass<3, 1, 0, 0>(inum, any_as);
+      if (newton) neigh_pass<3, 1, 1>(inum, any_as);
+      else neigh_pass<3, 1, 0>(inum, any_as);
     }
     k_acc.template modify<DeviceType>();
     if (newton) {
@@ -277,7 +275,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
   auto pk = d_pack;
   auto mt = d_mat;
   const int gb = fix->solidbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
-  const int use_rmass = atom->rmass_flag, mixed = mdl.mixed_precision();
+  const int use_rmass = atom->rmass_flag;
   using SL = StateLayout;
   Kokkos::parallel_for("sphcut:pair:stress_pass",
       sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
@@ -286,7 +284,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
           sphcut::pack_outside(xi, av.type(i), &pk(i, 0));    // not in the SPH solid: its neighbours skip it
           return;
         }
-        sphcut::pack_row(mt(av.type(i)), dim, any_as, mixed, xi, av.type(i), &av.st(i, 0),
+        sphcut::pack_row(mt(av.type(i)), dim, any_as, xi, av.type(i), &av.st(i, 0),
                          use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
       });
 }
@@ -300,7 +298,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
 ------------------------------------------------------------------------- */
 
 template <class DeviceType>
-template <int DIM, int HALF, int NEWTON, int MIXED>
+template <int DIM, int HALF, int NEWTON>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
   const NeighViews nv = neigh_views();
@@ -320,14 +318,14 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
         sphcut::PairIn in;
         sphcut::PairOut out;
         double xi[3], vi[3], mj, Vj;
-        gather_i<MIXED>(nv.pk, i, any_as, xi, vi, in);
+        gather_i(nv.pk, i, any_as, xi, vi, in);
         const double Vi = nv.pk(i, sphcut::PK_VOL);
         const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j<MIXED>(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
-          sphcut::pair_terms<DIM, MIXED>(kind, in, out);
+          if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
+          sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{acc});
           if (HALF && (NEWTON || j < nlocal))
             sphcut::pair_accumulate<DIM>(in, out, mi * mj, mi, Vi, -1.0, AtomicAdd<DeviceType>{accv, nv.f, j});
@@ -384,7 +382,7 @@ template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::team_lanes(i
    order of the sums as neigh_pass); the lanes' sums are added by
    shuffles, one lane writes */
 template <class DeviceType>
-template <int DIM, int MIXED>
+template <int DIM>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, int lanes)
 {
   const NeighViews nv = neigh_views();
@@ -406,7 +404,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
         const int itype = nv.type(i);
         sphcut::PairIn in_i;
         double xi[3], vi[3];
-        gather_i<MIXED>(nv.pk, i, any_as, xi, vi, in_i);
+        gather_i(nv.pk, i, any_as, xi, vi, in_i);
         const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         PairSums sums;
         Kokkos::parallel_reduce(
@@ -415,9 +413,9 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
               const int j = nv.neighbors(i, jj) & NEIGHMASK;
               sphcut::PairIn in = in_i;
               double mj, Vj;
-              if (!gather_j<MIXED>(nv.pk, tprow, j, xi, vi, in, mj, Vj)) return;
+              if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) return;
               sphcut::PairOut out;
-              sphcut::pair_terms<DIM, MIXED>(kind, in, out);
+              sphcut::pair_terms<DIM>(kind, in, out);
               sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{s.v});
             },
             sums);
@@ -434,7 +432,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
    sums its own share (the pair's force is antisymmetric, its work symmetric), into its force
    and its rate of u after the other rates, as on the CPU                                   */
 template <class DeviceType>
-template <int DIM, int MIXED>
+template <int DIM>
 void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
 {
   const NeighViews nv = neigh_views();
@@ -449,13 +447,13 @@ void PairSPHJCThermalKokkos<DeviceType>::hourglass_pass(int inum)
         const int itype = nv.type(i);
         sphcut::PairIn in;
         double xi[3], vi[3], mj, Vj;
-        gather_i<MIXED>(nv.pk, i, 0, xi, vi, in);
+        gather_i(nv.pk, i, 0, xi, vi, in);
         const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         double hi[4] = {0.0, 0.0, 0.0, 0.0};
         const int jnum = nv.numneigh(i);
         for (int jj = 0; jj < jnum; jj++) {
           const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j<MIXED>(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
+          if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
           double w, wfac, Mg[3], work;
           sphcut::kernel_w_gradfac_pre(kind, sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
           sphcut::hourglass_pair<DIM>(kappa, in, wfac, &nv.lg(i, 0), &nv.lg(j, 0), Mg, work);

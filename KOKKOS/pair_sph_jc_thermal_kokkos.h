@@ -58,10 +58,9 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
 
   // the passes (public: they launch device lambdas)
   void stress_pass(int nall, int any_as);
-  // MIXED: pair_style precision mixed (the packed rows' layout, sphcut_pair.h PackedRow)
-  template <int DIM, int HALF, int NEWTON, int MIXED> void neigh_pass(int inum, int any_as);
-  template <int DIM, int MIXED> void neigh_pass_team(int inum, int any_as, int lanes);
-  template <int DIM, int MIXED> void hourglass_pass(int inum);
+  template <int DIM, int HALF, int NEWTON> void neigh_pass(int inum, int any_as);
+  template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
+  template <int DIM> void hourglass_pass(int inum);
   // the team path (neigh_pass_team): at most TEAM_LANES_2D / _3D lanes per particle, halved
   // while particles x lanes exceed TEAM_FILL (the threads that fill a GPU of about a hundred
   // multiprocessors); threads per team

@@ -200,7 +200,6 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
   const Material *mat = mdl.materials();
   const int correction = mdl.renormalised();
   const double hourglass = mdl.hourglass_coefficient();
-  const int mixed = mdl.mixed_precision();
 
   grow_scratch(atom->nmax);
 
@@ -218,15 +217,15 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
       sphcut::pack_outside(x[i], type[i], p);
       continue;
     }
-    sphcut::pack_row(mat[type[i]], dim, any_as, mixed, x[i], type[i], st[i], rmass ? rmass[i] : mass[type[i]], p);
+    sphcut::pack_row(mat[type[i]], dim, any_as, x[i], type[i], st[i], rmass ? rmass[i] : mass[type[i]], p);
   }
 
   if (dim == 2) {
-    if (mixed) newton_pair ? pair_loop<2, 1, 1>(any_as) : pair_loop<2, 0, 1>(any_as);
-    else newton_pair ? pair_loop<2, 1, 0>(any_as) : pair_loop<2, 0, 0>(any_as);
+    if (newton_pair) pair_loop<2, 1>(any_as);
+    else pair_loop<2, 0>(any_as);
   } else {
-    if (mixed) newton_pair ? pair_loop<3, 1, 1>(any_as) : pair_loop<3, 0, 1>(any_as);
-    else newton_pair ? pair_loop<3, 1, 0>(any_as) : pair_loop<3, 0, 0>(any_as);
+    if (newton_pair) pair_loop<3, 1>(any_as);
+    else pair_loop<3, 0>(any_as);
   }
 
   // the force sums into atom->f (ghosts' through LAMMPS' reverse communication of f)
@@ -259,7 +258,7 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
    a local row, added once; j, with newton or when local, in its row)
 ------------------------------------------------------------------------- */
 
-template <int DIM, int NEWTON, int MIXED> void PairSPHJCThermal::pair_loop(int any_as)
+template <int DIM, int NEWTON> void PairSPHJCThermal::pair_loop(int any_as)
 {
   const int *type = atom->type;
   const int nlocal = atom->nlocal;
@@ -288,10 +287,10 @@ template <int DIM, int NEWTON, int MIXED> void PairSPHJCThermal::pair_loop(int a
     // in the SPH solid
     sphcut::PairIn in{};    // (zeroed: GCC cannot see that the second pass gathers only pairs the first accepted)
     double xi[3], veli[3];
-    sphcut::unpack_i<MIXED>(pi, any_as, xi, veli, in);
+    sphcut::unpack_i(pi, any_as, xi, veli, in);
     auto gather = [&](const double *pj) {
       double mj, Vj;
-      return sphcut::unpack_j<MIXED>(pj, tpi, xi, veli, in, mj, Vj);
+      return sphcut::unpack_j(pj, tpi, xi, veli, in, mj, Vj);
     };
 
     // first pass: the pairs within the cutoff and their scalars (the long chains of sqrt,
@@ -312,7 +311,7 @@ template <int DIM, int NEWTON, int MIXED> void PairSPHJCThermal::pair_loop(int a
       const double *pj = pk[j];
       gather(pj);
       sphcut::PairOut out;
-      sphcut::pair_finish<DIM, MIXED>(in, nbr_s[n], out);
+      sphcut::pair_finish<DIM>(in, nbr_s[n], out);
       const double mj = pj[PK_M], mm = mi * mj;
       sphcut::pair_accumulate<DIM>(in, out, mm, mj, pj[PK_VOL], 1.0, [&acci](int k, double val) { acci[k] += val; });
       if (NEWTON || j < nlocal) {
@@ -352,11 +351,11 @@ void PairSPHJCThermal::hourglass_forces()
   for (int i = 0; i < nacc; i++)
     for (int k = 0; k < 4; k++) hgacc[i][k] = 0.0;
   if (dim == 2) {
-    if (mdl.mixed_precision()) newton_pair ? hourglass_loop<2, 1, 1>() : hourglass_loop<2, 0, 1>();
-    else newton_pair ? hourglass_loop<2, 1, 0>() : hourglass_loop<2, 0, 0>();
+    if (newton_pair) hourglass_loop<2, 1>();
+    else hourglass_loop<2, 0>();
   } else {
-    if (mdl.mixed_precision()) newton_pair ? hourglass_loop<3, 1, 1>() : hourglass_loop<3, 0, 1>();
-    else newton_pair ? hourglass_loop<3, 1, 0>() : hourglass_loop<3, 0, 0>();
+    if (newton_pair) hourglass_loop<3, 1>();
+    else hourglass_loop<3, 0>();
   }
   double **f = atom->f;
   for (int i = 0; i < nacc; i++)
@@ -365,7 +364,7 @@ void PairSPHJCThermal::hourglass_forces()
   comm_mode = COMM_ACC;
 }
 
-template <int DIM, int NEWTON, int MIXED> void PairSPHJCThermal::hourglass_loop()
+template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
 {
   const int *type = atom->type;
   const int nlocal = atom->nlocal;
@@ -385,12 +384,12 @@ template <int DIM, int NEWTON, int MIXED> void PairSPHJCThermal::hourglass_loop(
     const int jnum = numneigh[i];
     sphcut::PairIn in{};    // (zeroed: GCC cannot see that the second pass gathers only pairs the first accepted)
     double xi[3], veli[3];
-    sphcut::unpack_i<MIXED>(pi, 0, xi, veli, in);
+    sphcut::unpack_i(pi, 0, xi, veli, in);
     double hi[4] = {0.0, 0.0, 0.0, 0.0};
     for (int jj = 0; jj < jnum; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
       double mj, Vj;
-      if (!sphcut::unpack_j<MIXED>(pk[j], tpi, xi, veli, in, mj, Vj)) continue;
+      if (!sphcut::unpack_j(pk[j], tpi, xi, veli, in, mj, Vj)) continue;
       double w, wfac;
       sphcut::kernel_w_gradfac_pre(mdl.kernel(), sqrt(in.r2), in.inv_h, in.wnorm, w, wfac);
       double Mg[3], work;

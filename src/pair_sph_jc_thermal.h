@@ -59,8 +59,8 @@ class PairSPHJCThermal : public Pair, public sphcut::AttachedStyle, public sphcu
   std::vector<sphcut::PairScalars> nbr_s;
 
   void allocate();
-  template <int DIM, int NEWTON, int MIXED> void pair_loop(int any_as);
-  template <int DIM, int NEWTON, int MIXED> void hourglass_loop();
+  template <int DIM, int NEWTON> void pair_loop(int any_as);
+  template <int DIM, int NEWTON> void hourglass_loop();
   void hourglass_forces();
   void grow_scratch(int);
   void free_scratch();

@@ -15,7 +15,6 @@
 #define SPHCUT_MATH_H
 
 #include <cmath>
-#include <cstring>
 
 #if defined(LMP_KOKKOS) || defined(SPHCUT_USE_KOKKOS_MACROS)
 #include <Kokkos_Macros.hpp>
@@ -49,30 +48,6 @@ SPHCUT_INLINE void load2(const double *p, double &a, double &b)
 #else
   a = p[0];
   b = p[1];
-#endif
-}
-
-/* precision mixed (sphcut_pair.h PackedRow): two floats in one double slot of a row.
-   store2f rounds a and b to float and writes them into the slot; load4f reads the four floats
-   of two adjacent slots (16-byte aligned: one 128-bit load on a GPU) as doubles.            */
-SPHCUT_INLINE void store2f(double *slot, double a, double b)
-{
-  const float f[2] = {(float) a, (float) b};
-  memcpy(slot, f, sizeof f);
-}
-
-SPHCUT_INLINE void load4f(const double *p, double *out)
-{
-#if defined(__CUDA_ARCH__)
-  const float4 v = __ldg(reinterpret_cast<const float4 *>(p));
-  out[0] = v.x;
-  out[1] = v.y;
-  out[2] = v.z;
-  out[3] = v.w;
-#else
-  float f[4];
-  memcpy(f, p, sizeof f);
-  for (int k = 0; k < 4; k++) out[k] = f[k];
 #endif
 }
 

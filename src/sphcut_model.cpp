@@ -92,14 +92,13 @@ void Model::allocate(int ntypes)
 
 /* ----------------------------------------------------------------------
    pair_style sph/jc-thermal [kernel cubic|wendland|hyperbolic] [correction yes|no]
-                             [hourglass kappa] [precision double|mixed]
+                             [hourglass kappa]
 ------------------------------------------------------------------------- */
 
 void Model::settings(LAMMPS *lmp, int narg, char **arg)
 {
   Error *error = lmp->error;
-  hourglass = 0.0;    // a repeated pair_style without the keyword switches it off (and precision)
-  mixed = 0;
+  hourglass = 0.0;    // a repeated pair_style without the keyword switches it off
   int iarg = 0;
   while (iarg < narg) {
     const std::string kw = arg[iarg];
@@ -118,10 +117,6 @@ void Model::settings(LAMMPS *lmp, int narg, char **arg)
       hourglass = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (hourglass < 0.0 || hourglass > 10.0)
         error->all(FLERR, "Pair sph/jc-thermal: hourglass must be in [0,10], got {}", hourglass);
-    } else if (kw == "precision") {
-      if (val == "double") mixed = 0;
-      else if (val == "mixed") mixed = 1;
-      else error->all(FLERR, "Pair sph/jc-thermal: precision must be double or mixed, got {}", val);
     } else {
       error->all(FLERR, "Pair sph/jc-thermal: unknown pair_style keyword {}", kw);
     }
@@ -357,11 +352,10 @@ double Model::mix(LAMMPS *lmp, int i, int j)
 }
 
 /* ----------------------------------------------------------------------
-   restart files.  Format 3 (this version): the settings start with RESTART_TAG and the
-   version, then kernel, correction, hourglass, precision (format 2: without it, double);
-   per type the material as (name, value) pairs (int count; per field: int length, the
-   name's characters, double value), then per type pair j >= i the flag h/hdx given and, if
-   so, h and hdx.  A field this version
+   restart files.  Format 2 (this version): the settings start with RESTART_TAG and the
+   version, then kernel, correction, hourglass; per type the material as (name, value)
+   pairs (int count; per field: int length, the name's characters, double value), then
+   per type pair j >= i the flag h/hdx given and, if so, h and hdx.  A field this version
    does not know is refused (the file needs a newer sphcut); one it misses takes its
    default (a parameter added after the file was written).
    Format 1 (sphcut before this change): the settings start with the size in bytes of the
@@ -424,7 +418,6 @@ void Model::write_settings(FILE *fp) const
   fwrite(&kernel_kind, sizeof(int), 1, fp);
   fwrite(&correction, sizeof(int), 1, fp);
   fwrite(&hourglass, sizeof(double), 1, fp);
-  fwrite(&mixed, sizeof(int), 1, fp);
 }
 
 void Model::write_restart(FILE *fp) const
@@ -459,15 +452,12 @@ int Model::read_settings(LAMMPS *lmp, FILE *fp, int &version)
     utils::sfread(FLERR, &correction, sizeof(int), 1, fp, nullptr, error);
     hourglass = 0.0;
     if (first == RESTART_TAG || first < 0) utils::sfread(FLERR, &hourglass, sizeof(double), 1, fp, nullptr, error);
-    mixed = 0;
-    if (first == RESTART_TAG && version >= 3) utils::sfread(FLERR, &mixed, sizeof(int), 1, fp, nullptr, error);
   }
   MPI_Bcast(&first, 1, MPI_INT, 0, lmp->world);
   MPI_Bcast(&version, 1, MPI_INT, 0, lmp->world);
   MPI_Bcast(&kernel_kind, 1, MPI_INT, 0, lmp->world);
   MPI_Bcast(&correction, 1, MPI_INT, 0, lmp->world);
   MPI_Bcast(&hourglass, 1, MPI_DOUBLE, 0, lmp->world);
-  MPI_Bcast(&mixed, 1, MPI_INT, 0, lmp->world);
   if (first == RESTART_TAG) {
     if (version < 2 || version > RESTART_VERSION)
       error->all(FLERR, "Pair sph/jc-thermal: restart file written by another sphcut version "

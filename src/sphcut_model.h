@@ -63,7 +63,6 @@ class Model {
   int kernel() const { return kernel_kind; }
   int renormalised() const { return correction; }
   double hourglass_coefficient() const { return hourglass; }
-  int mixed_precision() const { return mixed; }    // pair_style precision mixed (sphcut_pair.h PackedRow)
   int dimension() const { return dim; }
   int ntypes() const { return nt; }
 
@@ -83,14 +82,13 @@ class Model {
   // format 2; version: the format
   int read_settings(LAMMPS_NS::LAMMPS *lmp, FILE *fp, int &version);
   static constexpr int RESTART_TAG = 0x73706375;    // first int of the settings: field-by-field format
-  static constexpr int RESTART_VERSION = 3;         // 1: the raw record of older files (read, see .cpp)
+  static constexpr int RESTART_VERSION = 2;         // 1: the raw record of older files (read, see .cpp)
 
  private:
   int nt = 0;
   int kernel_kind = KERNEL_CUBIC;
   int correction = 1;       // 1: renormalised velocity gradient (exact for linear fields)
   double hourglass = 0.0;   // hourglass control coefficient kappa (0: off; sphcut::hourglass_pair)
-  int mixed = 0;            // 1: what the neighbour passes read of v, rho, sigma/rho^2 and R in FP32
   int dim = 3;
   std::vector<Material> mat;      // per type, 1..ntypes
   std::vector<double> hlen;       // smoothing length per type pair

@@ -75,22 +75,7 @@ SPHCUT_PAIR_INLINE void pair_scalars(int kernel, const PairIn &in, PairScalars &
   ps.w_rho = ps.w / (0.5 * (in.rho_i + in.rho_j));
 }
 
-// six values of a row (sigma/rho^2 or R, PackedRow): FP64 in three 16-byte pairs, or with
-// MIXED (precision mixed) FP32 in two slot pairs (the last two floats are padding)
-template <bool MIXED> SPHCUT_INLINE void load_six(const double *p, double *out)
-{
-  if (MIXED) {
-    double t[4];
-    load4f(p, out);
-    load4f(p + 2, t);
-    out[4] = t[0];
-    out[5] = t[1];
-  } else {
-    for (int k = 0; k < 6; k += 2) load2(p + k, out[k], out[k + 1]);
-  }
-}
-
-template <int DIM, bool MIXED = false>
+template <int DIM>
 SPHCUT_PAIR_INLINE void pair_finish(const PairIn &in, const PairScalars &ps, PairOut &out)
 {
   out.w = ps.w;
@@ -102,12 +87,14 @@ SPHCUT_PAIR_INLINE void pair_finish(const PairIn &in, const PairScalars &ps, Pai
   M[XX] -= ps.pi;
   M[YY] -= ps.pi;
   M[ZZ] -= ps.pi;
-  if (in.R_i) {
-    double ri[6], rj[6];
-    load_six<MIXED>(in.R_i, ri);
-    load_six<MIXED>(in.R_j, rj);
-    for (int k = 0; k < 6; k++) M[k] += ps.fn * (ri[k] + rj[k]);
-  }
+  if (in.R_i)
+    for (int k = 0; k < 6; k += 2) {
+      double ri0, ri1, rj0, rj1;
+      load2(in.R_i + k, ri0, ri1);
+      load2(in.R_j + k, rj0, rj1);
+      M[k] += ps.fn * (ri0 + rj0);
+      M[k + 1] += ps.fn * (ri1 + rj1);
+    }
   sym_apply(M, out.g, out.Mg);
   out.dvg = 0.0;
   out.work = 0.0;
@@ -117,12 +104,12 @@ SPHCUT_PAIR_INLINE void pair_finish(const PairIn &in, const PairScalars &ps, Pai
   }
 }
 
-template <int DIM, bool MIXED = false>
+template <int DIM>
 SPHCUT_PAIR_INLINE void pair_terms(int kernel, const PairIn &in, PairOut &out)
 {
   PairScalars ps;
   pair_scalars<DIM>(kernel, in, ps);
-  pair_finish<DIM, MIXED>(in, ps, out);
+  pair_finish<DIM>(in, ps, out);
 }
 
 /* ---- constants of a type pair (mixing rules) --------------------------
@@ -338,13 +325,7 @@ SPHCUT_INLINE void particle_stress(const Material &mt, int dim, int with_as, dou
    sectors of 32 bytes), with it NPK = 24 (R and padding); a pair loads R
    only where one of its two particles has a nonzero R (the sign of the
    type: under compression R is zero, and a term of two zero tensors adds
-   exactly nothing).
-   pair_style precision mixed: velocity, density, sigma/rho^2 and R as
-   floats, two to a slot (store2f, load4f), position, type, mass and
-   volume as doubles: 12 slots (96 bytes, 3 sectors, 6 loads of 16 bytes
-   a pair instead of 8) or 16 with R.  Each particle reads its own values
-   from its row too, so a pair sees the same rounded values from both
-   sides (the pair terms stay antisymmetric); the arithmetic is FP64.     */
+   exactly nothing).                                                        */
 enum PackedRow : int {
   PK_X = 0,       // position (3)
   PK_TYPE = 3,    // atom type (a double: read with the position, for the type pair's cutoff);
@@ -356,26 +337,15 @@ enum PackedRow : int {
   PK_A = 10,      // sigma/rho^2 (6, Voigt; particle_stress)
   NPK_NOAS = 16,  // the row's width without artificial stress
   PK_R = 16,      // artificial stress (6; only in rows of width NPK, when some material has one)
-  NPK = 24,       // the row's width with artificial stress (16-byte multiple: load2 alignment)
-  // precision mixed: slots of two floats
-  PKF_VRHO = 6,   // (v0, v1), (v2, rho)
-  PKF_A = 8,      // (A0, A1), (A2, A3), (A4, A5), a padding slot
-  NPKF_NOAS = 12,
-  PKF_R = 12,     // (R0, R1), (R2, R3), (R4, R5), a padding slot
-  NPKF = 16
+  NPK = 24        // the row's width with artificial stress (16-byte multiple: load2 alignment)
 };
 
-// rows and the slots read in pairs start at even slots (16-byte aligned: load2, load4f)
-static_assert(NPK % 2 == 0 && NPK_NOAS % 2 == 0 && NPKF % 2 == 0 && NPKF_NOAS % 2 == 0 && PK_M % 2 == 0 &&
-                  PK_V % 2 == 0 && PK_A % 2 == 0 && PK_R % 2 == 0 && PKF_VRHO % 2 == 0 && PKF_A % 2 == 0 &&
-                  PKF_R % 2 == 0,
+// rows and the slots read in pairs start at even slots (16-byte aligned: load2)
+static_assert(NPK % 2 == 0 && NPK_NOAS % 2 == 0 && PK_M % 2 == 0 && PK_V % 2 == 0 && PK_A % 2 == 0 && PK_R % 2 == 0,
               "packed rows not in 16-byte pairs");
 
 // the width of a row (its stride): with or without room for the artificial stress
-SPHCUT_INLINE int pack_width(int with_as, int mixed)
-{
-  return mixed ? (with_as ? NPKF : NPKF_NOAS) : (with_as ? NPK : NPK_NOAS);
-}
+SPHCUT_INLINE int pack_width(int with_as) { return with_as ? NPK : NPK_NOAS; }
 
 // the packed row of a particle outside the SPH solid: its position and type, mass 0
 SPHCUT_INLINE void pack_outside(const double *x, int type, double *row)
@@ -387,72 +357,40 @@ SPHCUT_INLINE void pack_outside(const double *x, int type, double *row)
 }
 
 // the packed row of a particle of the SPH solid from its position, type, its state row s (the
-// force state of fix sph/jc-thermal: RHO_F, SF, TEMP_F, VEST), its mass and material; mixed:
-// the precision mixed layout
-SPHCUT_INLINE void pack_row(const Material &mt, int dim, int with_as, int mixed, const double *x, int type,
-                            const double *s, double m, double *row)
+// force state of fix sph/jc-thermal: RHO_F, SF, TEMP_F, VEST), its mass and material
+SPHCUT_INLINE void pack_row(const Material &mt, int dim, int with_as, const double *x, int type, const double *s,
+                            double m, double *row)
 {
   using SL = StateLayout;
-  for (int a = 0; a < 3; a++) row[PK_X + a] = x[a];
+  for (int a = 0; a < 3; a++) {
+    row[PK_X + a] = x[a];
+    row[PK_V + a] = s[SL::VEST + a];
+  }
   row[PK_TYPE] = type;
+  row[PK_RHO] = s[SL::RHO_F];
   row[PK_M] = m;
   row[PK_VOL] = m / s[SL::RHO_F];
-  double A[6], R[6];
-  particle_stress(mt, dim, with_as, s[SL::RHO_F], s[SL::TEMP_F], &s[SL::SF], A, R);
-  bool r_nonzero = false;
+  particle_stress(mt, dim, with_as, s[SL::RHO_F], s[SL::TEMP_F], &s[SL::SF], &row[PK_A], &row[PK_R]);
   if (with_as)
     for (int k = 0; k < 6; k++)
-      if (R[k] != 0.0) r_nonzero = true;
-  if (r_nonzero) row[PK_TYPE] = -type;
-  if (mixed) {
-    store2f(&row[PKF_VRHO], s[SL::VEST], s[SL::VEST + 1]);
-    store2f(&row[PKF_VRHO + 1], s[SL::VEST + 2], s[SL::RHO_F]);
-    for (int k = 0; k < 3; k++) store2f(&row[PKF_A + k], A[2 * k], A[2 * k + 1]);
-    store2f(&row[PKF_A + 3], 0.0, 0.0);
-    if (with_as) {
-      for (int k = 0; k < 3; k++) store2f(&row[PKF_R + k], R[2 * k], R[2 * k + 1]);
-      store2f(&row[PKF_R + 3], 0.0, 0.0);
-    }
-    return;
-  }
-  for (int a = 0; a < 3; a++) row[PK_V + a] = s[SL::VEST + a];
-  row[PK_RHO] = s[SL::RHO_F];
-  for (int k = 0; k < 6; k++) row[PK_A + k] = A[k];
-  if (with_as)
-    for (int k = 0; k < 6; k++) row[PK_R + k] = R[k];
+      if (row[PK_R + k] != 0.0) row[PK_TYPE] = -type;
 }
 
 // the type of a packed row
 SPHCUT_INLINE int row_type(double t) { return (int) (t < 0.0 ? -t : t); }
 
-// velocity and density of a row (MIXED: precision mixed)
-template <bool MIXED> SPHCUT_INLINE void load_v_rho(const double *p, double *v, double &rho)
-{
-  if (MIXED) {
-    double t[4];
-    load4f(p + PKF_VRHO, t);
-    v[0] = t[0];
-    v[1] = t[1];
-    v[2] = t[2];
-    rho = t[3];
-  } else {
-    load2(p + PK_V, v[0], v[1]);
-    load2(p + PK_V + 2, v[2], rho);
-  }
-}
-
 // particle i's side of its pairs from its row: position, velocity, density and sigma/rho^2, and
 // with_as (some material has an artificial stress) its R for unpack_j
-template <bool MIXED = false>
 SPHCUT_INLINE void unpack_i(const double *pi, int with_as, double *xi, double *vi, PairIn &in)
 {
   double t;
   load2(pi + PK_X, xi[0], xi[1]);
   load2(pi + PK_X + 2, xi[2], t);
-  in.R_own = with_as ? pi + (MIXED ? PKF_R : PK_R) : nullptr;
+  in.R_own = with_as ? pi + PK_R : nullptr;
   in.r_own = with_as && t < 0.0;
-  load_v_rho<MIXED>(pi, vi, in.rho_i);
-  load_six<MIXED>(pi + (MIXED ? PKF_A : PK_A), in.A_i);
+  load2(pi + PK_V, vi[0], vi[1]);
+  load2(pi + PK_V + 2, vi[2], in.rho_i);
+  for (int k = 0; k < 6; k += 2) load2(pi + PK_A + k, in.A_i[k], in.A_i[k + 1]);
 }
 
 // the inputs of pair i-j from j's row and the row tprow of i's type pairs (tprow[type of j]):
@@ -460,7 +398,6 @@ SPHCUT_INLINE void unpack_i(const double *pi, int with_as, double *xi, double *v
 // only within the cutoff); mj and Vj the mass and volume of j.  The artificial stress term:
 // in.R_i and R_j point to the two tensors where one of them is nonzero, else in.R_i is nullptr
 // (pair_terms skips the term and loads neither).
-template <bool MIXED = false>
 SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const double *xi, const double *vi, PairIn &in,
                             double &mj, double &Vj)
 {
@@ -474,12 +411,13 @@ SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const doubl
   load2(pj + PK_M, mj, Vj);
   if (mj == 0.0) return false;
   double vj[3];
-  load_v_rho<MIXED>(pj, vj, in.rho_j);
+  load2(pj + PK_V, vj[0], vj[1]);
+  load2(pj + PK_V + 2, vj[2], in.rho_j);
   for (int a = 0; a < 3; a++) in.dv[a] = vj[a] - vi[a];
   set_type_pair(tp, in);
-  load_six<MIXED>(pj + (MIXED ? PKF_A : PK_A), in.A_j);
+  for (int k = 0; k < 6; k += 2) load2(pj + PK_A + k, in.A_j[k], in.A_j[k + 1]);
   in.R_i = in.R_own && (in.r_own || tj < 0.0) ? in.R_own : nullptr;
-  in.R_j = pj + (MIXED ? PKF_R : PK_R);
+  in.R_j = pj + PK_R;
   return true;
 }
 

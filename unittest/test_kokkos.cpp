@@ -594,44 +594,6 @@ TEST(KokkosThermal, Cut3DFreeSidesMatchesCpu)
   expect_same_cut(cpu, kk, "cut 3D");
 }
 
-// pair_style precision mixed (FP32 neighbour data, sphcut_pair.h PackedRow) in the 3D cut with
-// free sides: /kk against the CPU style, and mixed against double.  The two mixed runs do not
-// agree to round-off as in double: a value whose FP64 round-off differs between the two (the
-// order of the sums) can round to neighbouring floats, a step of 6e-8 relative, and the cut
-// carries it on.  Measured after 2500 steps (1100 in contact), 1 / 2 ranks: /kk vs CPU, both
-// mixed, state 3.4e-8 / 3.9e-8, positions 1.7e-11 / 2.1e-11 of the body, tool force vector
-// 9.0e-8 / 6.8e-8; mixed vs double (CPU) state 2.6e-8 / 5.3e-8, positions 1.4e-11 / 3.5e-11,
-// tool force 2.9e-8 / 2.8e-8.  Limits 3x the largest.
-TEST(KokkosThermal, Cut3DMixedPrecisionMatchesCpu)
-{
-  std::vector<std::string> vars = {"ny index 6", "nz index 3", "sides index free", "steps index 2500",
-                                   "xstart index 1", "thermoevery index 500"};
-  const CutRun dbl = cut_run({}, "cutting-3d-ti6al4v", vars);
-  vars.push_back("precision index mixed");
-  const CutRun cpu = cut_run({}, "cutting-3d-ti6al4v", vars);
-  const CutRun kk = cut_run(KK_FULL, "cutting-3d-ti6al4v", vars);
-  double dx_kk, ds_kk, dx_dbl, ds_dbl;
-  snapshot_diff(cpu.snap, kk.snap, dx_kk, ds_kk);
-  snapshot_diff(dbl.snap, cpu.snap, dx_dbl, ds_dbl);
-  const double dc_kk = vector_diff(cpu.cut, kk.cut, 3), dc_dbl = vector_diff(dbl.cut, cpu.cut, 3);
-  int me;
-  MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  if (me == 0) {
-    std::printf("[ mixed 3D ] /kk vs CPU, both mixed: state %.3e, positions %.3e, tool force %.3e (%g in contact)\n",
-                ds_kk, dx_kk, dc_kk, cpu.cut[4]);
-    std::printf("[ mixed 3D ] mixed vs double (CPU): state %.3e, positions %.3e, tool force %.3e\n", ds_dbl, dx_dbl,
-                dc_dbl);
-  }
-  EXPECT_GT(cpu.cut[4], 2.0);    // the tool is in contact
-  EXPECT_GT(ds_dbl, 1e-9);       // the FP32 rounding acts
-  EXPECT_LT(ds_kk, 1.2e-7);
-  EXPECT_LT(dx_kk, 6.5e-11);
-  EXPECT_LT(dc_kk, 2.7e-7);
-  EXPECT_LT(ds_dbl, 1.6e-7);
-  EXPECT_LT(dx_dbl, 1.1e-10);
-  EXPECT_LT(dc_dbl, 9e-8);
-}
-
 // the options the cuts do not use: the per-particle (non-conservative) form every step, a
 // material interface (FMFS -> Brookshaw), radiation and convection on the surface, a Dirichlet
 // group, scheme brookshaw; a hot block on a cooler substrate of another conductivity, 300 steps

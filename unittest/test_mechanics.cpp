@@ -309,25 +309,6 @@ TEST(PressureCutoff, Restart)
   EXPECT_EQ(pair->model().materials()[1].pmin, 0.0);
 }
 
-// pair_style precision travels with the restart file; a repeated pair_style without the keyword
-// switches it back to double
-TEST(RestartFormat, PrecisionTravels)
-{
-  {
-    Lammps l;
-    block2d(l, 6, 4, 1.0e-3);
-    l.cmds({"pair_style sph/jc-thermal precision mixed", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3",
-            "run 0 post no", "write_restart precision.restart"});
-  }
-  Lammps l;
-  l.cmds({"read_restart precision.restart", "fix sph all sph/jc-thermal", "run 0 post no"});
-  auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
-  EXPECT_EQ(pair->model().mixed_precision(), 1);
-  EXPECT_EQ(pair->model().materials()[1].rho0, 7800.0);
-  l.cmd("pair_style sph/jc-thermal");
-  EXPECT_EQ(static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair)->model().mixed_precision(), 0);
-}
-
 /* a restart file of a version before pmin (its material record ends before pmin, the last field)
    reads as no cutoff; a record of any other size is refused.  The pair's restart section is
    written here by hand in the older layout and read with PairSPHJCThermal::read_restart. */
@@ -431,9 +412,8 @@ TEST(RestartFormat, FileOfMainReads)
 
 /* the field-by-field record: every parameter of the flow tanh law (and the others) survives the
    restart; a record without a field reads its default (a parameter added after the file was
-   written); a field or a format this version does not know is refused, naming it; format 3 adds
-   pair_style precision (format 2 reads as double). The records are written here by hand in
-   formats 2 and 3 and read with PairSPHJCThermal::read_restart. */
+   written); a field or a format this version does not know is refused, naming it. The records
+   are written here by hand in format 2 and read with PairSPHJCThermal::read_restart. */
 TEST(RestartFormat, FieldByField)
 {
   {
@@ -456,10 +436,9 @@ TEST(RestartFormat, FieldByField)
     EXPECT_EQ(m.xsph, 0.5);
     EXPECT_DOUBLE_EQ(m.G, 200e9 / 2.6);    // derived again
   }
-  // formats 2 and 3 by hand: tag, version, kernel, correction, hourglass, (format 3) precision
-  // mixed 0/1; per type (count, (length, name, value)...), setflag, h, hdx
-  auto write_v2 = [](const char *name, int version, const std::vector<std::pair<std::string, double>> &fields,
-                     int mixed = -1) {
+  // format 2 by hand: tag, version, kernel, correction, hourglass; per type (count, (length, name,
+  // value)...), setflag, h, hdx
+  auto write_v2 = [](const char *name, int version, const std::vector<std::pair<std::string, double>> &fields) {
     FILE *fp = fopen(name, "wb");
     const int tag = 0x73706375, kernel = 0, corr = 1, setflag = 1, count = (int) fields.size();
     const double hourglass = 0.0, h = 1.3e-5, hdx = 0.0;
@@ -468,7 +447,6 @@ TEST(RestartFormat, FieldByField)
     fwrite(&kernel, sizeof(int), 1, fp);
     fwrite(&corr, sizeof(int), 1, fp);
     fwrite(&hourglass, sizeof(double), 1, fp);
-    if (mixed >= 0) fwrite(&mixed, sizeof(int), 1, fp);
     fwrite(&count, sizeof(int), 1, fp);
     for (const auto &f : fields) {
       const int len = (int) f.first.size();
@@ -481,18 +459,16 @@ TEST(RestartFormat, FieldByField)
     fwrite(&hdx, sizeof(double), 1, fp);
     fclose(fp);
   };
-  auto read_with = [](const char *name, std::string *err, int *mixed = nullptr) {
+  auto read_with = [](const char *name, std::string *err) {
     Lammps l;
-    // (precision mixed before the read: a format-2 file sets it back to double)
     l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "region box block 0 1 0 1 -0.5 0.5",
-            "create_box 1 box", "pair_style sph/jc-thermal precision mixed"});
+            "create_box 1 box", "pair_style sph/jc-thermal"});
     auto *pair = static_cast<LAMMPS_NS::PairSPHJCThermal *>(l.lmp->force->pair);
     FILE *fp = fopen(name, "rb");
     sphcut::Material m = {};
     try {
       pair->read_restart(fp);
       m = pair->model().materials()[1];
-      if (mixed) *mixed = pair->model().mixed_precision();
     } catch (LAMMPS_NS::LAMMPSException &e) {
       *err = e.what();
     }
@@ -502,11 +478,9 @@ TEST(RestartFormat, FieldByField)
   const std::vector<std::pair<std::string, double>> few = {{"defined", 1}, {"rho0", 4430}, {"E", 113.8e9},
                                                            {"nu", 0.342}, {"chi", 0.0}};
   std::string err;
-  int mixed = -1;
   write_v2("few.restart", 2, few);
-  const sphcut::Material m = read_with("few.restart", &err, &mixed);
+  const sphcut::Material m = read_with("few.restart", &err);
   EXPECT_EQ(err, "");
-  EXPECT_EQ(mixed, 0) << "format 2: precision double";
   EXPECT_EQ(m.rho0, 4430.0);
   EXPECT_EQ(m.chi, 0.0);
   EXPECT_EQ(m.xsph, 0.5) << "missing field: its pair_coeff default";
@@ -519,19 +493,10 @@ TEST(RestartFormat, FieldByField)
   write_v2("unknown.restart", 2, unknown);
   read_with("unknown.restart", &err);
   EXPECT_NE(err.find("material parameter zeta (format 2) is unknown to this version"), std::string::npos) << err;
-  for (int mx : {0, 1}) {
-    write_v2("v3.restart", 3, few, mx);
-    err.clear();
-    const sphcut::Material m3 = read_with("v3.restart", &err, &mixed);
-    EXPECT_EQ(err, "");
-    EXPECT_EQ(mixed, mx) << "format 3: precision as written";
-    EXPECT_EQ(m3.rho0, 4430.0);
-    EXPECT_EQ(m3.nu, 0.342);
-  }
   err.clear();
-  write_v2("future.restart", 4, few, 0);
+  write_v2("future.restart", 3, few);
   read_with("future.restart", &err);
-  EXPECT_NE(err.find("restart file written by another sphcut version (model restart format 4"), std::string::npos)
+  EXPECT_NE(err.find("restart file written by another sphcut version (model restart format 3"), std::string::npos)
       << err;
 }
 

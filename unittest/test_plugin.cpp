@@ -26,7 +26,6 @@ TEST(Plugin, BadStyleArgumentIsALammpsError)
   l.cmds({"units si", "atom_style atomic", "region box block 0 1 0 1 0 1", "create_box 1 box"});
   EXPECT_TRUE(l.error_contains("pair_style sph/jc-thermal kernel gaussian", "unknown kernel gaussian"));
   EXPECT_TRUE(l.error_contains("pair_style sph/jc-thermal flavour x", "unknown pair_style keyword flavour"));
-  EXPECT_TRUE(l.error_contains("pair_style sph/jc-thermal precision single", "precision must be double or mixed, got single"));
   EXPECT_TRUE(l.error_contains("fix 1 all sph/jc-thermal cfl 2.0", "cfl must be in (0,1], got 2"));
   EXPECT_TRUE(l.error_contains("fix 1 all sph/jc-thermal tool nogroup", "tool group nogroup does not exist"));
 }
