@@ -16,7 +16,8 @@
 #   scale    MPI scaling of the CPU styles, 2D cut at 41 and 81 across, 1-16 ranks
 #   slab     2D vs 3D periodic slab (plane strain) at NYS (default 11) across over CUTS (0.3e-3 m):
 #            steady forces per mm of width
-#   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s
+#   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s;
+#            BENCH_NZ layers (58 232), BENCH_STEPS (200), BENCH_ARGS more -var settings
 #   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut (or CHIP_WALL
 #            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py
 #   peer     the peer code (../shared/peer/, its binary in .carry/peer/) and sphcut on the seed-003
@@ -249,8 +250,8 @@ bench3d() {
   cd $W
   for nz in ${BENCH_NZ:-58 232}; do
     timeout 290 "$BIN" $GPUK $NEV -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 -var steps ${BENCH_STEPS:-200} \
-      -var thermoevery 100 -var printevery 100 -log log.b3d$nz > screen.b3d$nz 2>&1 || tail -3 screen.b3d$nz
-    say "bench3d ny 41 nz $nz: $(grep '^Loop time' log.b3d$nz | tail -1)"
+      -var thermoevery 100 -var printevery 100 ${BENCH_ARGS:-} -log log.b3d$nz > screen.b3d$nz 2>&1 || tail -3 screen.b3d$nz
+    say "bench3d ny 41 nz $nz${BENCH_ARGS:+ ($BENCH_ARGS)}: $(grep '^Loop time' log.b3d$nz | tail -1)"
     say "  $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %.3e particle-steps/s", a, a*n/t}' log.b3d$nz)"
     awk '/sphcut timing/{n++} n==2' log.b3d$nz | sed -n '1,8p' | grep -v "^Loop" | sed 's/^/    /' >> "$SUM"
   done
