@@ -382,7 +382,7 @@ template <int DIM, int NEWTON> void PairSPHJCThermal::hourglass_loop()
     const sphcut::TypePair *tpi = mdl.type_pair_row(type[i]);
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
-    sphcut::PairIn in{};    // (zeroed: GCC cannot see that the second pass gathers only pairs the first accepted)
+    sphcut::PairIn in;
     double xi[3], veli[3];
     sphcut::unpack_i(pi, 0, xi, veli, in);
     double hi[4] = {0.0, 0.0, 0.0, 0.0};
