@@ -43,7 +43,6 @@
 #include "sphcut_kokkos.h"
 #include "sphcut_thermal.h"
 
-#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -290,8 +289,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::build_heat_rows(
   const int nall = atom->nlocal + atom->nghost;
   if ((int) d_hrow.extent(0) < atom->nmax) {
     d_hrow = typename AT::t_double_2d("heat/fmfs:hrow", atom->nmax, NHR);
-    if (reinterpret_cast<std::uintptr_t>(d_hrow.data()) % 16 != 0)
-      error->one(FLERR, "Fix heat/fmfs/kk: the heat rows are not 16-byte aligned");
+    sphcut::require_aligned16(lmp, d_hrow.data(), "Fix heat/fmfs/kk: the heat rows");
   }
   const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
   auto hr = d_hrow;
@@ -355,8 +353,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
 {
   if ((int) k_fwts.extent(0) < atom->nmax) {
     k_fwts = DAT::tdual_double_2d("heat/fmfs:fwts", atom->nmax, NWCOL);
-    if (reinterpret_cast<std::uintptr_t>(k_fwts.template view<DeviceType>().data()) % 16 != 0)
-      error->one(FLERR, "Fix heat/fmfs/kk: the FMFS weights are not 16-byte aligned");
+    sphcut::require_aligned16(lmp, k_fwts.template view<DeviceType>().data(), "Fix heat/fmfs/kk: the FMFS weights");
   }
   k_fwts.template sync<DeviceType>();
   typename AT::t_double_2d surf;

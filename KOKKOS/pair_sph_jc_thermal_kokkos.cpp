@@ -22,7 +22,6 @@
 #include "sphcut_kokkos.h"
 #include "sphcut_pair.h"
 
-#include <cstdint>
 #include <cstdlib>
 #include <string>
 
@@ -192,9 +191,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int pk_cols = sphcut::pack_width(any_as);
   if (atom->nmax > nmax_kk || (int) d_pack.extent(1) != pk_cols) {
     d_pack = typename AT::t_double_2d("pair:pack", atom->nmax, pk_cols);
-    // the neighbour passes read the rows in 16-byte pairs (sphcut::load2)
-    if (reinterpret_cast<std::uintptr_t>(d_pack.data()) % 16 != 0)
-      error->one(FLERR, "Pair sph/jc-thermal/kk: the packed rows are not 16-byte aligned");
+    sphcut::require_aligned16(lmp, d_pack.data(), "Pair sph/jc-thermal/kk: the packed rows");
   }
   if (atom->nmax > nmax_kk) {
     nmax_kk = atom->nmax;

@@ -15,6 +15,7 @@
 #include "atom_kokkos.h"
 #include "neigh_list_kokkos.h"
 
+#include <cstdint>
 #include <mpi.h>
 #include <string>
 #include <vector>
@@ -250,6 +251,14 @@ inline LAMMPS_NS::LAMMPS *require_kokkos(LAMMPS_NS::LAMMPS *lmp, const std::stri
     lmp->error->all(FLERR, "{} needs the KOKKOS package enabled: run with -k on ... -sf kk "
                     "(or use the style without /kk)", who);
   return lmp;
+}
+
+// the rows a neighbour pass reads in 16-byte pairs (sphcut::load2, load_weights) start 16-byte
+// aligned: checked where such a view is allocated (their widths: static_asserts at the layouts)
+inline void require_aligned16(LAMMPS_NS::LAMMPS *lmp, const void *data, const std::string &what)
+{
+  if (reinterpret_cast<std::uintptr_t>(data) % 16 != 0)
+    lmp->error->one(FLERR, "{} are not 16-byte aligned", what);
 }
 
 // mark the neighbour request a style just made as a Kokkos list on DeviceType, so that the list
