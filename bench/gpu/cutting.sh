@@ -246,11 +246,24 @@ slab() {
 }
 
 # the 3D cut, periodic slab, all physics; nz layers set the size (ny 41: about 17.6 k per layer)
+# one run of bench3d's periodic slab (41 across, all physics, BENCH_STEPS steps): label, layers,
+# more lmp arguments; the binary $BIN (LAMMPS_PLUGIN_PATH from the environment); log.<label>
+slab_run() {
+  local label=$1 nz=$2; shift 2
+  timeout 290 "$BIN" $GPUK $NEV -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 -var steps ${BENCH_STEPS:-200} \
+    -var thermoevery 100 -var printevery 100 "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
+}
+
+# bench/gpu/kp_timer.cpp as $W/libkp_timer.so (KOKKOS_PROFILE_LIBRARY)
+kp_timer_lib() {
+  local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
+  g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart
+}
+
 bench3d() {
   cd $W
   for nz in ${BENCH_NZ:-58 232}; do
-    timeout 290 "$BIN" $GPUK $NEV -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 -var steps ${BENCH_STEPS:-200} \
-      -var thermoevery 100 -var printevery 100 ${BENCH_ARGS:-} -log log.b3d$nz > screen.b3d$nz 2>&1 || tail -3 screen.b3d$nz
+    slab_run b3d$nz $nz ${BENCH_ARGS:-}
     say "bench3d ny 41 nz $nz${BENCH_ARGS:+ ($BENCH_ARGS)}: $(grep '^Loop time' log.b3d$nz | tail -1)"
     say "  $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %.3e particle-steps/s", a, a*n/t}' log.b3d$nz)"
     awk '/sphcut timing/{n++} n==2' log.b3d$nz | sed -n '1,8p' | grep -v "^Loop" | sed 's/^/    /' >> "$SUM"
@@ -303,9 +316,7 @@ prof_run() {
 
 prof() {
   cd $W
-  local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
-  g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart \
-    || { say "prof: kp_timer build failed"; cd "$ROOT"; return 1; }
+  kp_timer_lib || { say "prof: kp_timer build failed"; cd "$ROOT"; return 1; }
   local steps=${PROF_STEPS:-3000}
   for ny in ${PROF_NY:-21 41}; do
     say "prof 2D ny $ny ($steps steps in contact)"
@@ -406,8 +417,7 @@ for r in rows('cuda_gpu_mem_time_sum'):
 EOP
   else
     # no profiler on the machine: the device's own clock through CUDA events (kp_timer events mode)
-    local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
-    g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart
+    kp_timer_lib
     KP_TIMER_SYNC=events KP_TIMER_SKIP=${KP_SKIP:-6000} KP_TIMER_CALLS=${KP_CALLS:-24000} KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so \
       KP_TIMER_OUT=$W/kpe$ny.txt prof_run tle$ny "$EX2" -var ny $ny -var steps $steps $NEV
     say "timeline: no nsys; the device's clock (CUDA events) over a window of calls:"
@@ -520,22 +530,22 @@ lanes() {
 ab() {
   build_b || return 1
   cd $W
-  local steps=${PROF_STEPS:-2000} ny nz r v
+  local steps=${PROF_STEPS:-2000} ny nz r v bin pp
+  # variant $1's binary and plugin folder into bin, pp
+  ab_variant() { bin=$BIN pp=$ROOT/build-cuda; [ $1 = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b; }
   for v in A B; do
-    local bin=$BIN pp=$ROOT/build-cuda; [ $v = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b
+    ab_variant $v
     LAMMPS_PLUGIN_PATH=$pp timeout 120 "$bin" $GPUK -in "$EX2" -var xstart 1 -var ny 11 -var steps 30 \
       -var dumpevery 0 -log none > /dev/null 2>&1
   done
   for r in $(seq ${AB_REPS:-2}); do
     for v in A B; do
-      local bin=$BIN pp=$ROOT/build-cuda; [ $v = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b
+      ab_variant $v
       for ny in ${AB_NY:-41}; do
         BIN=$bin LAMMPS_PLUGIN_PATH=$pp prof_run ab$v${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV
       done
       for nz in ${AB_NZ:-58 232}; do
-        LAMMPS_PLUGIN_PATH=$pp timeout 290 "$bin" $GPUK $NEV -in "$EX3" -var ny 41 -var nz $nz -var xstart 1 \
-          -var steps ${BENCH_STEPS:-200} -var thermoevery 100 -var printevery 100 -log log.ab$v$nz$r > screen.ab$v$nz$r 2>&1 \
-          || tail -3 screen.ab$v$nz$r
+        BIN=$bin LAMMPS_PLUGIN_PATH=$pp slab_run ab$v$nz$r $nz
         say "  ab$v 3D nz $nz r$r: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.ab$v$nz$r)"
       done
     done
@@ -543,14 +553,11 @@ ab() {
   # AB_KP=NZ: each variant's 3D slab at NZ layers once more under kp_timer (synchronised kernel
   # times; the first lines of its table per variant)
   if [ -n "${AB_KP:-}" ]; then
-    local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
-    g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart \
-      || { say "ab: kp_timer build failed"; cd "$ROOT"; return 1; }
+    kp_timer_lib || { say "ab: kp_timer build failed"; cd "$ROOT"; return 1; }
     for v in A B; do
-      local bin=$BIN pp=$ROOT/build-cuda; [ $v = B ] && bin=$BIN_B pp=$ROOT/build-cuda-b
-      KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.ab$v.txt LAMMPS_PLUGIN_PATH=$pp timeout 200 "$bin" \
-        $GPUK $NEV -in "$EX3" -var ny 41 -var nz $AB_KP -var xstart 1 -var steps ${BENCH_STEPS:-200} -var thermoevery 100 \
-        -var printevery 100 -log log.abkp$v > screen.abkp$v 2>&1 || tail -3 screen.abkp$v
+      ab_variant $v
+      BIN=$bin LAMMPS_PLUGIN_PATH=$pp KOKKOS_PROFILE_LIBRARY=$W/libkp_timer.so KP_TIMER_OUT=$W/kp.ab$v.txt \
+        slab_run abkp$v $AB_KP
       say "  ab$v 3D nz $AB_KP under kp_timer:"
       head -${AB_KP_LINES:-20} $W/kp.ab$v.txt | sed 's/^/    /' >> "$SUM"
     done
