@@ -42,6 +42,10 @@
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
 #            steps (particle-steps/s); AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
 #            (kernel times)
+#   envab    one binary under ENVAB_SETS environment settings (;-separated, e.g. SPHCUT_PAIR_STAGE=0), in
+#            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
+#   ncu2d    the device time of each kernel of the 2D cut at PROF_NY (41) across (Nsight Compute, each
+#            kernel alone) against the wall time per step
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -562,6 +566,59 @@ ab() {
       head -${AB_KP_LINES:-20} $W/kp.ab$v.txt | sed 's/^/    /' >> "$SUM"
     done
   fi
+  cd "$ROOT"
+}
+
+# the same binary under different environment settings, in turn ENVAB_REPS (2) times: each ';'-separated
+# set of ENVAB_SETS (default "SPHCUT_PAIR_STAGE=0;SPHCUT_PAIR_STAGE=1") on the 2D cut in contact at ENVAB_NY
+# (41 81) across, PROF_STEPS steps (us/step), and on the 3D slab at ENVAB_NZ (232) layers (ms/step)
+envab() {
+  cd $W
+  local steps=${PROF_STEPS:-2000} sets r k set ny nz
+  IFS=';' read -ra sets <<< "${ENVAB_SETS:-SPHCUT_PAIR_STAGE=0;SPHCUT_PAIR_STAGE=1}"
+  for r in $(seq ${ENVAB_REPS:-2}); do
+    for k in "${!sets[@]}"; do
+      set=${sets[$k]}
+      say "  envab r$r [$set]"
+      for ny in ${ENVAB_NY:-41 81}; do
+        (export $set; prof_run ev${k}n${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV)
+      done
+      for nz in ${ENVAB_NZ:-232}; do
+        (export $set; slab_run ev${k}z${nz}r$r $nz)
+        say "    3D nz $nz: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.ev${k}z${nz}r$r)"
+      done
+    done
+  done
+  cd "$ROOT"
+}
+
+# the device time of each kernel of the 2D cut in contact at PROF_NY (41) across under Nsight Compute
+# (gpu__time_duration of NCU_COUNT (800) launches after NCU_SKIP (4000), each kernel alone): device
+# time per step against the wall time per step of the same input unprofiled
+ncu2d() {
+  cd $W
+  local ny=${PROF_NY:-41} ncu; ncu=$(command -v ncu || ls /usr/local/cuda/bin/ncu /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | head -1)
+  [ -n "$ncu" ] || { say "ncu2d: no ncu"; cd "$ROOT"; return 0; }
+  prof_run nc$ny "$EX2" -var ny $ny -var steps 2000 $NEV
+  timeout 400 "$ncu" --metrics gpu__time_duration.sum --csv --print-units base --launch-skip ${NCU_SKIP:-4000} \
+    --launch-count ${NCU_COUNT:-800} "$BIN" $GPUK -in "$EX2" -var ny $ny -var xstart 1 -var steps 2000 -var thermoevery 1000 \
+    -var printevery 100 -var dumpevery 0 $NEV -log log.ncu$ny > ncu$ny.csv 2> ncu$ny.err || tail -3 ncu$ny.err
+  cp ncu$ny.csv "$OUT/" 2>/dev/null
+  python3 - ncu$ny.csv <<'EOP' | tee -a "$SUM"
+import csv, sys, collections
+rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if l.startswith('"'))]
+if len(rows) < 2:
+    print('  ncu2d: no rows'); sys.exit()
+h = rows[0]; K, V = h.index('Kernel Name'), h.index('Metric Value')
+t = collections.defaultdict(float); n = collections.Counter()
+for r in rows[1:]:
+    t[r[K]] += float(r[V].replace(',', '')); n[r[K]] += 1
+steps = n.most_common(1)[0][1]    # the kernels that run every step
+tot = sum(t.values())
+print('  ncu2d: %d launches, %.1f per step, device time %.1f us per step (%d steps)' % (sum(n.values()), sum(n.values()) / steps, tot / 1e3 / steps, steps))
+for k in sorted(t, key=lambda k: -t[k]):
+    print('    %7.2f us/step  %5.2f calls/step  %6.2f us/call  %s' % (t[k] / 1e3 / steps, n[k] / steps, t[k] / 1e3 / n[k], k[:100]))
+EOP
   cd "$ROOT"
 }
 
