@@ -123,7 +123,7 @@ template <class DeviceType> struct AtomicAdd {
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
     PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
-    fixkk(nullptr), tables_ready(0), lanes_env(0), stage_env(1)
+    fixkk(nullptr), tables_ready(0), lanes_env(0), minb_env(0)
 {
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
@@ -155,13 +155,8 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
     if (lanes_env < 1 || lanes_env > 32 || (lanes_env & (lanes_env - 1)))
       error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_LANES={} is not 1, 2, 4, 8, 16 or 32", v);
   }
-  e = std::getenv("SPHCUT_PAIR_STAGE");
-  if (e && *e) {
-    const std::string v(e);
-    if (v != "0" && v != "1" && v != "2")
-      error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_STAGE={} is not 0, 1 or 2", v);
-    stage_env = std::atoi(e);
-  }
+  e = std::getenv("SPHCUT_PAIR_MINB");
+  if (e && *e) minb_env = std::atoi(e);
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
@@ -229,15 +224,20 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     if (lanes > 0) {
       if (dim == 2) neigh_pass_team<2>(inum, any_as, lanes);
       else neigh_pass_team<3>(inum, any_as, lanes);
-    } else if (stage_env == 2 && stage_rows()) {
-      if (dim == 2) neigh_pass_staged<2, Kokkos::LaunchBounds<>>(inum, any_as);
-      else neigh_pass_staged<3, Kokkos::LaunchBounds<>>(inum, any_as);
-    } else if (stage_rows()) {
-      if (dim == 2) neigh_pass_staged<2, StageBounds>(inum, any_as);
-      else neigh_pass_staged<3, StageBounds>(inum, any_as);
     } else {
-      if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
-      else neigh_pass<3, 0, 0>(inum, any_as);
+      if (minb_env == 4) {
+        if (dim == 2) neigh_pass<2, 0, 0, 4>(inum, any_as);
+        else neigh_pass<3, 0, 0, 4>(inum, any_as);
+      } else if (minb_env == 5) {
+        if (dim == 2) neigh_pass<2, 0, 0, 5>(inum, any_as);
+        else neigh_pass<3, 0, 0, 5>(inum, any_as);
+      } else if (minb_env == 3) {
+        if (dim == 2) neigh_pass<2, 0, 0, 3>(inum, any_as);
+        else neigh_pass<3, 0, 0, 3>(inum, any_as);
+      } else {
+        if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
+        else neigh_pass<3, 0, 0>(inum, any_as);
+      }
     }
     if (mdl.hourglass_coefficient() > 0.0) {
       // the hourglass control (sphcut::hourglass_pair): L of the local particles from the
@@ -318,7 +318,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
 ------------------------------------------------------------------------- */
 
 template <class DeviceType>
-template <int DIM, int HALF, int NEWTON>
+template <int DIM, int HALF, int NEWTON, int MINB>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
   const NeighViews nv = neigh_views();
@@ -328,7 +328,7 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
   const int hg = !HALF && mdl.hourglass_coefficient() > 0.0;
 
   Kokkos::parallel_for("sphcut:pair:neigh_pass",
-      sphcut::range<DeviceType>(0, inum), KOKKOS_LAMBDA(const int ii) {
+      sphcut::range<DeviceType, MINB>(0, inum), KOKKOS_LAMBDA(const int ii) {
         const int i = nv.ilist(ii);
         const double mi = nv.pk(i, PK_M);
         if (mi == 0.0) return;    // not in the SPH solid
@@ -387,14 +387,6 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
    (bench/gpu/cutting.sh lanes).  The choice itself: gpu_lanes.
 ------------------------------------------------------------------------- */
 
-/* whether the one-thread-per-particle pass stages its neighbours' rows (neigh_pass_staged): on a
-   GPU, unless SPHCUT_PAIR_STAGE=0 (for the benchmark that compares the two, cutting.sh ab)      */
-template <class DeviceType> bool PairSPHJCThermalKokkos<DeviceType>::stage_rows() const
-{
-  const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  return !on_host && stage_env;
-}
-
 template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::team_lanes(int inum) const
 {
   const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
@@ -446,79 +438,6 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
             },
             sums);
         Kokkos::single(Kokkos::PerThread(team), [&]() { store_sums(nv, nv.mt(itype), DIM, corr, hg, sums.v, i); });
-      });
-}
-
-/* the full-list pass of one thread per particle with its neighbours' rows staged by the warp
-   (a GPU's path where neigh_pass would run; SPHCUT_PAIR_STAGE=0 turns it off).  An irregular
-   load costs the L1 one wavefront per distinct 128-byte line an instruction touches: in
-   neigh_pass each of a pair's 8 16-byte loads touches 32 lines (32 threads, 32 rows).  Here, at
-   each step jj of the neighbour loops, the 32 threads of a warp load the first NPK_NOAS slots
-   (128 bytes) of their 32 neighbours' rows together, 8 lanes a row (one 16-byte load each, 4
-   lines an instruction), into shared memory, then each thread reads its own row there (rows
-   STAGE_SLOTS apart: no bank conflicts).  The artificial stress R stays in the packed rows.
-   Same pairs, same order, same arithmetic as neigh_pass; a warp steps to its longest list.    */
-template <class DeviceType>
-template <int DIM, class Bounds>
-void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_staged(int inum, int any_as)
-{
-  const NeighViews nv = neigh_views();
-  const int kind = mdl.kernel(), corr = mdl.renormalised(), ntp = atom->ntypes + 1;
-  const int hg = mdl.hourglass_coefficient() > 0.0;
-  typedef Kokkos::TeamPolicy<DeviceType, Bounds> policy_t;
-  typedef Kokkos::View<double *, typename DeviceType::scratch_memory_space, Kokkos::MemoryUnmanaged> t_stage;
-  const int nt = TEAM_THREADS;
-  const size_t bytes = t_stage::shmem_size(nt * STAGE_SLOTS);
-
-  Kokkos::parallel_for("sphcut:pair:neigh_pass_staged",
-      policy_t((inum + nt - 1) / nt, nt, 1).set_scratch_size(0, Kokkos::PerTeam(bytes)),
-      KOKKOS_LAMBDA(const typename policy_t::member_type &team) {
-        const int t = team.team_rank(), ii = team.league_rank() * nt + t;
-        const int i = ii < inum ? nv.ilist(ii) : 0;
-        const double mi = ii < inum ? nv.pk(i, PK_M) : 0.0;
-        const int n = mi != 0.0 ? nv.numneigh(i) : 0;    // no sums: the thread still stages rows
-        const int itype = nv.type(i);
-        double acc[sphcut::NACC];
-        for (int k = 0; k < sphcut::NACC; k++) acc[k] = 0.0;
-        sphcut::PairIn in;
-        sphcut::PairOut out;
-        double xi[3], vi[3], mj, Vj;
-        gather_i(nv.pk, i, any_as, xi, vi, in);
-        const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
-#if defined(__CUDA_ARCH__)
-        t_stage stage(team.team_scratch(0), nt * STAGE_SLOTS);
-        const unsigned all = 0xffffffffu;
-        const int lane = t & 31;
-        double *rows = stage.data() + (t - lane) * STAGE_SLOTS;    // the warp's 32 rows
-        const int steps = __reduce_max_sync(all, n);
-        for (int jj = 0; jj < steps; jj++) {
-          const int j = jj < n ? nv.neighbors(i, jj) & NEIGHMASK : -1;
-#pragma unroll
-          for (int m = 0; m < 8; m++) {
-            // piece q of 8 (16 bytes) of the row of lane r's neighbour
-            const int r = (lane >> 3) + 4 * m, q = lane & 7, jr = __shfl_sync(all, j, r);
-            if (jr >= 0)
-              *reinterpret_cast<double2 *>(rows + r * STAGE_SLOTS + 2 * q) =
-                  __ldg(reinterpret_cast<const double2 *>(&nv.pk(jr, 0)) + q);
-          }
-          __syncwarp();
-          if (j >= 0 &&
-              sphcut::unpack_j_from<true>(rows + lane * STAGE_SLOTS, &nv.pk(j, sphcut::PK_R), tprow, xi, vi, in, mj,
-                                          Vj)) {
-            sphcut::pair_terms<DIM>(kind, in, out);
-            sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{acc});
-          }
-          __syncwarp();
-        }
-#else
-        // a host backend never launches this pass (neigh_pass runs there): the same loop unstaged
-        for (int jj = 0; jj < n; jj++)
-          if (gather_j(nv.pk, tprow, nv.neighbors(i, jj) & NEIGHMASK, xi, vi, in, mj, Vj)) {
-            sphcut::pair_terms<DIM>(kind, in, out);
-            sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{acc});
-          }
-#endif
-        if (mi != 0.0) store_sums(nv, nv.mt(itype), DIM, corr, hg, acc, i);
       });
 }
 

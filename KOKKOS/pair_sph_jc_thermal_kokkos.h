@@ -24,7 +24,6 @@ PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
 #include "kokkos_base.h"
 #include "kokkos_type.h"
 #include "sphcut_kokkos.h"
-#include "sphcut_pair.h"
 #include "pair_sph_jc_thermal.h"
 
 namespace LAMMPS_NS {
@@ -59,21 +58,13 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
 
   // the passes (public: they launch device lambdas)
   void stress_pass(int nall, int any_as);
-  template <int DIM, int HALF, int NEWTON> void neigh_pass(int inum, int any_as);
+  template <int DIM, int HALF, int NEWTON, int MINB = 0> void neigh_pass(int inum, int any_as);
   template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
-  template <int DIM, class Bounds> void neigh_pass_staged(int inum, int any_as);
-  // doubles between two staged rows in shared memory (neigh_pass_staged): a row's 16 and 2 of
-  // padding, so that the 8 threads of a quarter warp reading their rows hit distinct banks
-  enum { STAGE_SLOTS = sphcut::NPK_NOAS + 2 };
-  bool stage_rows() const;
   template <int DIM> void hourglass_pass(int inum);
   // the team path (neigh_pass_team): at most TEAM_LANES_2D / _3D lanes per particle, halved
   // while particles x lanes exceed TEAM_FILL (the threads that fill a GPU of about a hundred
   // multiprocessors); threads per team
   enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
-  // the launch bounds of neigh_pass_staged: at most 168 registers a thread, 3 teams of TEAM_THREADS on a
-  // multiprocessor (SPHCUT_PAIR_STAGE=2: none; the compiler takes 200 in 3D)
-  typedef Kokkos::LaunchBounds<TEAM_THREADS, 3> StageBounds;
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
   // SPHCUT_PAIR_LANES (0: unset); 0 = one thread per particle
@@ -105,7 +96,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   FixSPHJCThermalKokkosBase *fixkk;
   int tables_ready;
   int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
-  int stage_env;    // SPHCUT_PAIR_STAGE (stage_rows; 2: without StageBounds), 1 where unset
+  int minb_env;
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
   typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost

@@ -111,9 +111,10 @@ KOKKOS_INLINE_FUNCTION void sum_min_join(volatile double *dst, const volatile do
 // functors over 512 bytes into constant memory, and each such launch waits for the previous one
 // to finish (cudaEventSynchronize): the host cannot run ahead of the device, and the fixed cost
 // of a step grows with the number of kernels (measured: bench/gpu/RESULTS.md)
-template <class DeviceType> inline auto range(int begin, int end)
+template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
 {
-  return Kokkos::Experimental::require(Kokkos::RangePolicy<DeviceType>(begin, end),
+  typedef typename std::conditional<MINB == 0, Kokkos::LaunchBounds<>, Kokkos::LaunchBounds<128, MINB>>::type bounds;
+  return Kokkos::Experimental::require(Kokkos::RangePolicy<DeviceType, bounds>(begin, end),
                                        Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
 

@@ -38,12 +38,11 @@ namespace sphcut {
 /* two adjacent doubles from a 16-byte aligned address: on a GPU one 128-bit load through the
    read-only path (the neighbour passes' rows, sphcut_pair.h PackedRow: half the load
    instructions of scalar loads, and the L1 cost of an irregular load is per instruction);
-   PLAIN, an ordinary 128-bit load (from shared memory, where the read-only path does not
-   reach); on the host two plain loads.  The same values either way.                       */
-template <bool PLAIN = false> SPHCUT_INLINE void load2(const double *p, double &a, double &b)
+   on the host two plain loads.  The same values either way.                               */
+SPHCUT_INLINE void load2(const double *p, double &a, double &b)
 {
 #if defined(__CUDA_ARCH__)
-  const double2 v = PLAIN ? *reinterpret_cast<const double2 *>(p) : __ldg(reinterpret_cast<const double2 *>(p));
+  const double2 v = __ldg(reinterpret_cast<const double2 *>(p));
   a = v.x;
   b = v.y;
 #else

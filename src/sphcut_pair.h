@@ -397,38 +397,28 @@ SPHCUT_INLINE void unpack_i(const double *pi, int with_as, double *xi, double *v
 // false when j is beyond the cutoff (or on top of i), or not in the SPH solid (mj 0; loaded
 // only within the cutoff); mj and Vj the mass and volume of j.  The artificial stress term:
 // in.R_i and R_j point to the two tensors where one of them is nonzero, else in.R_i is nullptr
-// (pair_terms skips the term and loads neither).  unpack_j_from reads the row's first NPK_NOAS
-// slots from row and points R_j to Rj: STAGED, row is a copy the threads of a GPU warp staged
-// together in shared memory (plain loads; sphcut::load2's read-only loads are for global
-// memory), Rj the row's R in the packed rows themselves.
-template <bool STAGED>
-SPHCUT_INLINE bool unpack_j_from(const double *row, const double *Rj, const TypePair *tprow, const double *xi,
-                                 const double *vi, PairIn &in, double &mj, double &Vj)
+// (pair_terms skips the term and loads neither).
+SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const double *xi, const double *vi, PairIn &in,
+                            double &mj, double &Vj)
 {
   double xj[3], tj;
-  load2<STAGED>(row + PK_X, xj[0], xj[1]);
-  load2<STAGED>(row + PK_X + 2, xj[2], tj);
+  load2(pj + PK_X, xj[0], xj[1]);
+  load2(pj + PK_X + 2, xj[2], tj);
   for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - xj[a];
   in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
   const TypePair &tp = tprow[row_type(tj)];
   if (in.r2 >= tp.cutsq || in.r2 == 0.0) return false;
-  load2<STAGED>(row + PK_M, mj, Vj);
+  load2(pj + PK_M, mj, Vj);
   if (mj == 0.0) return false;
   double vj[3];
-  load2<STAGED>(row + PK_V, vj[0], vj[1]);
-  load2<STAGED>(row + PK_V + 2, vj[2], in.rho_j);
+  load2(pj + PK_V, vj[0], vj[1]);
+  load2(pj + PK_V + 2, vj[2], in.rho_j);
   for (int a = 0; a < 3; a++) in.dv[a] = vj[a] - vi[a];
   set_type_pair(tp, in);
-  for (int k = 0; k < 6; k += 2) load2<STAGED>(row + PK_A + k, in.A_j[k], in.A_j[k + 1]);
+  for (int k = 0; k < 6; k += 2) load2(pj + PK_A + k, in.A_j[k], in.A_j[k + 1]);
   in.R_i = in.R_own && (in.r_own || tj < 0.0) ? in.R_own : nullptr;
-  in.R_j = Rj;
+  in.R_j = pj + PK_R;
   return true;
-}
-
-SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const double *xi, const double *vi, PairIn &in,
-                            double &mj, double &Vj)
-{
-  return unpack_j_from<false>(pj, pj + PK_R, tprow, xi, vi, in, mj, Vj);
 }
 
 }    // namespace sphcut

@@ -44,8 +44,6 @@
 #            (kernel times)
 #   envab    one binary under ENVAB_SETS environment settings (;-separated, e.g. SPHCUT_PAIR_STAGE=0), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
-#   ncu2d    the device time of each kernel of the 2D cut at PROF_NY (41) across (Nsight Compute, each
-#            kernel alone) against the wall time per step
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -589,36 +587,6 @@ envab() {
       done
     done
   done
-  cd "$ROOT"
-}
-
-# the device time of each kernel of the 2D cut in contact at PROF_NY (41) across under Nsight Compute
-# (gpu__time_duration of NCU_COUNT (800) launches after NCU_SKIP (4000), each kernel alone): device
-# time per step against the wall time per step of the same input unprofiled
-ncu2d() {
-  cd $W
-  local ny=${PROF_NY:-41} ncu; ncu=$(command -v ncu || ls /usr/local/cuda/bin/ncu /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | head -1)
-  [ -n "$ncu" ] || { say "ncu2d: no ncu"; cd "$ROOT"; return 0; }
-  prof_run nc$ny "$EX2" -var ny $ny -var steps 2000 $NEV
-  timeout 400 "$ncu" --metrics gpu__time_duration.sum --csv --print-units base --launch-skip ${NCU_SKIP:-4000} \
-    --launch-count ${NCU_COUNT:-800} "$BIN" $GPUK -in "$EX2" -var ny $ny -var xstart 1 -var steps 2000 -var thermoevery 1000 \
-    -var printevery 100 -var dumpevery 0 $NEV -log log.ncu$ny > ncu$ny.csv 2> ncu$ny.err || tail -3 ncu$ny.err
-  cp ncu$ny.csv "$OUT/" 2>/dev/null
-  python3 - ncu$ny.csv <<'EOP' | tee -a "$SUM"
-import csv, sys, collections
-rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if l.startswith('"'))]
-if len(rows) < 2:
-    print('  ncu2d: no rows'); sys.exit()
-h = rows[0]; K, V = h.index('Kernel Name'), h.index('Metric Value')
-t = collections.defaultdict(float); n = collections.Counter()
-for r in rows[1:]:
-    t[r[K]] += float(r[V].replace(',', '')); n[r[K]] += 1
-steps = n.most_common(1)[0][1]    # the kernels that run every step
-tot = sum(t.values())
-print('  ncu2d: %d launches, %.1f per step, device time %.1f us per step (%d steps)' % (sum(n.values()), sum(n.values()) / steps, tot / 1e3 / steps, steps))
-for k in sorted(t, key=lambda k: -t[k]):
-    print('    %7.2f us/step  %5.2f calls/step  %6.2f us/call  %s' % (t[k] / 1e3 / steps, n[k] / steps, t[k] / 1e3 / n[k], k[:100]))
-EOP
   cd "$ROOT"
 }
 
