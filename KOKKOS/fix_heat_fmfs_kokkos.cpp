@@ -25,8 +25,6 @@
 
 #include "fix_heat_fmfs_kokkos.h"
 
-#include <cstdlib>
-
 #include "atom_kokkos.h"
 #include "atom_masks.h"
 #include "comm.h"
@@ -364,22 +362,17 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
     surf = surfkk->k_out.template view<DeviceType>();
   }
   const HeatFMFSViews<DeviceType> d = heat_views();
-  static const int minb = std::getenv("SPHCUT_HEAT_MINB") ? std::atoi(std::getenv("SPHCUT_HEAT_MINB")) : 0;
-  if (minb == 4) scheme_pass_kk<DIM, 4>(d, surf);
-  else if (minb == 3) scheme_pass_kk<DIM, 3>(d, surf);
-  else scheme_pass_kk<DIM, 0>(d, surf);
+  scheme_pass_kk<DIM>(d, surf);
   sphcut::forward_comm(comm, this);
   k_fwts.template sync<DeviceType>();
-  if (minb == 4) exchange_pass_kk<DIM, 4>(d, surf);
-  else if (minb == 3) exchange_pass_kk<DIM, 3>(d, surf);
-  else exchange_pass_kk<DIM, 0>(d, surf);
+  exchange_pass_kk<DIM>(d, surf);
 }
 
 /* 1. one thread per particle walks its neighbours once for the surface indicator (fused: into
    the compute's values) and the FMFS moments (sphcut::heat_scheme), the same sums in the same
    order as the CPU fix: the scheme of each particle and its FMFS pair weights */
 template <class DeviceType>
-template <int DIM, int MINB>
+template <int DIM>
 void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceType> &d,
                                                    const typename AT::t_double_2d &surf)
 {
@@ -397,7 +390,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
           for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
         });
   Kokkos::parallel_reduce("sphcut:heat:weights",
-      sphcut::range<DeviceType, MINB>(0, list->inum),
+      sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = d.av.ilist(ii);
         if (!(d.av.mask(i) & gb)) return;
@@ -430,7 +423,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
 /* 2. the pairwise exchange (sphcut::heat_exchange, each pair from both sides: nothing to
    scatter) and the surface losses into the held rate */
 template <class DeviceType>
-template <int DIM, int MINB>
+template <int DIM>
 void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceType> &d,
                                                      const typename AT::t_double_2d &surf)
 {
@@ -444,7 +437,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
   Kokkos::parallel_for("sphcut:heat:zero_held",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce("sphcut:heat:exchange",
-      sphcut::range<DeviceType, MINB>(0, list->inum),
+      sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
         const int i = d.av.ilist(ii);
         if (!(d.av.mask(i) & gb)) return;

@@ -71,8 +71,8 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   HeatFMFSViews<DeviceType> heat_views();    // what the heat kernels read
   template <int DIM> void conduction_kk();
   template <int DIM> void conduction_conservative_kk();
-  template <int DIM, int MINB> void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
-  template <int DIM, int MINB> void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
+  template <int DIM> void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
+  template <int DIM> void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
   void add_held();    // setup only (during the run fix sph/jc-thermal/kk's corrector adds HELD)
   void set_dirichlet();    // setup only (during the run fix sph/jc-thermal/kk's predictor sets TEMP_F)
   // the heat the Dirichlet groups took, summed on the device by fix sph/jc-thermal/kk's corrector

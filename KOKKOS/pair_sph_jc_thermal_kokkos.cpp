@@ -123,7 +123,7 @@ template <class DeviceType> struct AtomicAdd {
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
     PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
-    fixkk(nullptr), tables_ready(0), lanes_env(0), minb_env(0)
+    fixkk(nullptr), tables_ready(0), lanes_env(0), bounded(1)
 {
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
@@ -155,8 +155,12 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
     if (lanes_env < 1 || lanes_env > 32 || (lanes_env & (lanes_env - 1)))
       error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_LANES={} is not 1, 2, 4, 8, 16 or 32", v);
   }
-  e = std::getenv("SPHCUT_PAIR_MINB");
-  if (e && *e) minb_env = std::atoi(e);
+  e = std::getenv("SPHCUT_PAIR_BOUNDS");
+  if (e && *e) {
+    const std::string v(e);
+    if (v != "0" && v != "1") error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_BOUNDS={} is not 0 or 1", v);
+    bounded = v == "1";
+  }
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
@@ -225,15 +229,9 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       if (dim == 2) neigh_pass_team<2>(inum, any_as, lanes);
       else neigh_pass_team<3>(inum, any_as, lanes);
     } else {
-      if (minb_env == 4) {
-        if (dim == 2) neigh_pass<2, 0, 0, 4>(inum, any_as);
-        else neigh_pass<3, 0, 0, 4>(inum, any_as);
-      } else if (minb_env == 5) {
-        if (dim == 2) neigh_pass<2, 0, 0, 5>(inum, any_as);
-        else neigh_pass<3, 0, 0, 5>(inum, any_as);
-      } else if (minb_env == 3) {
-        if (dim == 2) neigh_pass<2, 0, 0, 3>(inum, any_as);
-        else neigh_pass<3, 0, 0, 3>(inum, any_as);
+      if (bounded) {
+        if (dim == 2) neigh_pass<2, 0, 0, NEIGH_MINB>(inum, any_as);
+        else neigh_pass<3, 0, 0, NEIGH_MINB>(inum, any_as);
       } else {
         if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
         else neigh_pass<3, 0, 0>(inum, any_as);

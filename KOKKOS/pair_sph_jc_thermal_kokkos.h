@@ -65,6 +65,12 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // while particles x lanes exceed TEAM_FILL (the threads that fill a GPU of about a hundred
   // multiprocessors); threads per team
   enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
+  // the one-thread-per-particle pass (neigh_pass, the full list where team_lanes gives 0) in blocks
+  // of 128 threads, at least NEIGH_MINB of them on a multiprocessor (at most 168 registers a thread
+  // in 3D, no spill): measured on one H200 against Kokkos' own block size (bench/gpu/RESULTS.md,
+  // "Launch bounds"), the 3D slab at 4.24 M -2 %, the 2D cut at 70k particles about -10 %.
+  // SPHCUT_PAIR_BOUNDS=0 (environment) launches it unbounded, as before, for that comparison.
+  enum { NEIGH_MINB = 3 };
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
   // SPHCUT_PAIR_LANES (0: unset); 0 = one thread per particle
@@ -96,7 +102,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   FixSPHJCThermalKokkosBase *fixkk;
   int tables_ready;
   int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
-  int minb_env;
+  int bounded;      // SPHCUT_PAIR_BOUNDS (NEIGH_MINB), 1 where unset
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
   typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <mpi.h>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 // The KOKKOS API of LAMMPS changed between the two versions the /kk styles compile against:
@@ -110,10 +111,13 @@ KOKKOS_INLINE_FUNCTION void sum_min_join(volatile double *dst, const volatile do
 // constants, often more than 512 bytes) as a kernel argument.  Without the hint Kokkos 3.4 puts
 // functors over 512 bytes into constant memory, and each such launch waits for the previous one
 // to finish (cudaEventSynchronize): the host cannot run ahead of the device, and the fixed cost
-// of a step grows with the number of kernels (measured: bench/gpu/RESULTS.md)
+// of a step grows with the number of kernels (measured: bench/gpu/RESULTS.md).  MINB > 0: launch
+// bounds, blocks of 128 threads and at least MINB of them on a multiprocessor (else Kokkos chooses
+// the block size from the kernel's registers)
 template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
 {
-  typedef typename std::conditional<MINB == 0, Kokkos::LaunchBounds<>, Kokkos::LaunchBounds<128, MINB>>::type bounds;
+  typedef typename std::conditional<MINB == 0, Kokkos::LaunchBounds<>, Kokkos::LaunchBounds<128, MINB>>::type
+      bounds;
   return Kokkos::Experimental::require(Kokkos::RangePolicy<DeviceType, bounds>(begin, end),
                                        Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
