@@ -434,6 +434,21 @@ TEST(Kokkos, ClearErrors)
     unsetenv("SPHCUT_PAIR_LANES");
     expect_same(run(KK_FULL, "off", 2, 20), four, "kk with SPHCUT_PAIR_LANES=4 on a host backend");
   }
+  {
+    // the benchmarks' switch of the pair's launch bounds (cutting.sh envab): anything but 0 or 1 is
+    // refused by name; 0 (unbounded) gives the same state as the default (bounds change no
+    // arithmetic)
+    for (const char *bad : {"2", "yes", "-1"}) {
+      setenv("SPHCUT_PAIR_BOUNDS", bad, 1);
+      Lammps l(MPI_COMM_WORLD, KK_FULL);
+      l.cmds(collision("off"));
+      EXPECT_TRUE(l.error_contains("run 0", std::string("SPHCUT_PAIR_BOUNDS=") + bad + " is not 0 or 1")) << bad;
+    }
+    setenv("SPHCUT_PAIR_BOUNDS", "0", 1);
+    const Snapshot unbounded = run(KK_FULL, "off", 2, 20);
+    unsetenv("SPHCUT_PAIR_BOUNDS");
+    expect_same(run(KK_FULL, "off", 2, 20), unbounded, "kk with SPHCUT_PAIR_BOUNDS=0 on a host backend");
+  }
 }
 
 /* ----------------------------------------------------------------------

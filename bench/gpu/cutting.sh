@@ -42,7 +42,7 @@
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
 #            steps (particle-steps/s); AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
 #            (kernel times)
-#   envab    one binary under ENVAB_SETS environment settings (;-separated, e.g. SPHCUT_PAIR_STAGE=0), in
+#   envab    one binary under ENVAB_SETS environment settings (;-separated, e.g. SPHCUT_PAIR_BOUNDS=0), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
@@ -568,12 +568,12 @@ ab() {
 }
 
 # the same binary under different environment settings, in turn ENVAB_REPS (2) times: each ';'-separated
-# set of ENVAB_SETS (default "SPHCUT_PAIR_STAGE=0;SPHCUT_PAIR_STAGE=1") on the 2D cut in contact at ENVAB_NY
+# set of ENVAB_SETS (default "SPHCUT_PAIR_BOUNDS=0;SPHCUT_PAIR_BOUNDS=1") on the 2D cut in contact at ENVAB_NY
 # (41 81) across, PROF_STEPS steps (us/step), and on the 3D slab at ENVAB_NZ (232) layers (ms/step)
 envab() {
   cd $W
   local steps=${PROF_STEPS:-2000} sets r k set ny nz
-  IFS=';' read -ra sets <<< "${ENVAB_SETS:-SPHCUT_PAIR_STAGE=0;SPHCUT_PAIR_STAGE=1}"
+  IFS=';' read -ra sets <<< "${ENVAB_SETS:-SPHCUT_PAIR_BOUNDS=0;SPHCUT_PAIR_BOUNDS=1}"
   for r in $(seq ${ENVAB_REPS:-2}); do
     for k in "${!sets[@]}"; do
       set=${sets[$k]}
