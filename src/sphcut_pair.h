@@ -366,14 +366,19 @@ SPHCUT_INLINE void pack_row(const Material &mt, int dim, int with_as, const doub
     row[PK_X + a] = x[a];
     row[PK_V + a] = s[SL::VEST + a];
   }
-  row[PK_TYPE] = type;
   row[PK_RHO] = s[SL::RHO_F];
   row[PK_M] = m;
   row[PK_VOL] = m / s[SL::RHO_F];
-  particle_stress(mt, dim, with_as, s[SL::RHO_F], s[SL::TEMP_F], &s[SL::SF], &row[PK_A], &row[PK_R]);
+  // R in registers, then into the row: the type's sign from them, not read back from the row
+  double R[6];
+  particle_stress(mt, dim, with_as, s[SL::RHO_F], s[SL::TEMP_F], &s[SL::SF], &row[PK_A], R);
+  bool r_nonzero = false;
   if (with_as)
-    for (int k = 0; k < 6; k++)
-      if (row[PK_R + k] != 0.0) row[PK_TYPE] = -type;
+    for (int k = 0; k < 6; k++) {
+      row[PK_R + k] = R[k];
+      if (R[k] != 0.0) r_nonzero = true;
+    }
+  row[PK_TYPE] = r_nonzero ? -type : type;
 }
 
 // the type of a packed row
