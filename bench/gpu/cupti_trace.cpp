@@ -241,6 +241,19 @@ void summarise()
   };
   table(dev, "device", 40);
   table(host, "host  ", 20);
+  // one step as it ran (the window's middle step): each device activity and host wait with its start
+  // after the step's first launch and its length, and the device's idle gap before it
+  const uint64_t a = marks[from + n / 2], b = marks[from + n / 2 + 1];
+  std::fprintf(f, "  one step (launch %ld of *%s*), us: start, length, idle before (device)\n", from + n / 2,
+               mark.c_str());
+  uint64_t dev_end = a;
+  for (const Span &s : spans) {
+    if (s.start < a || s.start >= b || s.kind == 3) continue;
+    const double gap = s.kind <= 2 && s.start > dev_end ? (double) (s.start - dev_end) * 1e-3 : 0.0;
+    std::fprintf(f, "    %8.1f %8.1f %6.1f  %s%s\n", (double) (s.start - a) * 1e-3, (double) (s.end - s.start) * 1e-3,
+                 gap, s.kind <= 2 ? "" : "host wait: ", s.name.c_str());
+    if (s.kind <= 2) dev_end = std::max(dev_end, s.end);
+  }
   if (f != stderr) std::fclose(f);
 }
 
