@@ -176,6 +176,74 @@ TEST(Cutting, RestartContinuesTheCut)
   }
 }
 
+// the 3D example continued from its restart file (-var continue 1) gives the cut of the unsplit
+// run: the 3D cut with free sides at 6 across and 3 layers (1,398 particles), the tool 0.6
+// spacings off, in contact from about step 100; split at step 1000 of 1500, from the file the
+// first part writes at its end and from the periodic restart file of step 1000.  Every run
+// writes restart files every 500 steps (-var restartevery 500): LAMMPS rebuilds the neighbour
+// lists at each step that writes one, which orders the sums differently (without it in the first
+// part: 8e-14 in Fc after the split on one rank, 2.7e-14 on two).  With the same schedule the
+// continued cut is bitwise the unsplit one, on one rank and on two (test_cutting_restart_np2)
+TEST(Cutting, RestartContinuesThe3DCut)
+{
+  const std::string in = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-3d-ti6al4v/in.cutting";
+  int nprocs, me;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  auto run = [&](int steps, int cont, int restartevery = 0) {
+    auto l = std::make_unique<Lammps>();
+    l->cmds({"variable ny index 6", "variable nz index 3", "variable sides index free", "variable xstart index 0.6",
+             "variable thermoevery index 500", "variable printevery index 100", "variable dumpevery index 0",
+             "variable steps index " + std::to_string(steps), "variable continue index " + std::to_string(cont),
+             "variable restartevery index " + std::to_string(restartevery)});
+    l->lmp->input->file(in.c_str());
+    return l;
+  };
+  auto positions = [](Lammps &l) {
+    std::vector<double> x(3 * static_cast<size_t>(l.lmp->atom->natoms));
+    lammps_gather_atoms(l.lmp, (char *) "x", 1, 3, x.data());
+    return x;
+  };
+  if (me == 0) {
+    std::remove("restart.a");
+    std::remove("restart.b");
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  auto ref = run(1500, 0, 500);
+  const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), tmax = ref->equal("v_Tmax");
+  const std::vector<double> xref = positions(*ref);
+  ref.reset();
+  const double rtol = 0.0, xtol = 0.0;
+  for (int split : {1000, -1000}) {
+    if (split > 0) {
+      run(split, 0, 500).reset();
+    } else if (me == 0) {    // restart.b: step 1000 (restart.a: 500, then 1500)
+      std::ifstream src("restart.b", std::ios::binary);
+      ASSERT_TRUE(src.good()) << "restartevery 500 wrote no restart.b";
+      std::ofstream dst("restart.cutting", std::ios::binary);
+      dst << src.rdbuf();
+    }
+    MPI_Barrier(MPI_COMM_WORLD);
+    auto cont = run(1500 - std::abs(split), 1, 500);
+    EXPECT_EQ(cont->lmp->update->ntimestep, 1500);
+    const double fc2 = cont->equal("v_Fc"), ft2 = cont->equal("v_Ft"), tmax2 = cont->equal("v_Tmax");
+    const std::vector<double> x = positions(*cont);
+    ASSERT_EQ(x.size(), xref.size());
+    double worst = 0.0;
+    for (size_t k = 0; k < x.size(); k++) worst = std::max(worst, fabs(x[k] - xref[k]));
+    if (me == 0)
+      std::printf("[ restart  ] 3D, %d rank(s), split at step 1000%s: Fc %.15g / %.15g (%.1e), Ft %.15g / %.15g "
+                  "(%.1e), Tmax %.1e relative; largest position difference %.2e m (spacing 6e-5 m)\n",
+                  nprocs, split < 0 ? " (restart.b of restartevery)" : "", fc, fc2, fabs(fc2 / fc - 1), ft, ft2,
+                  fabs(ft2 / ft - 1), fabs(tmax2 / tmax - 1), worst);
+    EXPECT_GT(fc, 20.0);    // in contact
+    EXPECT_LE(fabs(fc2 - fc), rtol * fc);
+    EXPECT_LE(fabs(ft2 - ft), rtol * fc);
+    EXPECT_LE(fabs(tmax2 - tmax), rtol * tmax);
+    EXPECT_LE(worst, xtol);
+  }
+}
+
 // -var balance rcb (recursive bisection, comm_style tiled: 1.02x the mean load on the busiest of
 // 16 ranks at 81 across, against 1.41x with shift) runs the input's path and gives the cut of
 // the default shift (one rank here; on 16 oversubscribed ranks the forces after 20 steps agreed

@@ -19,7 +19,11 @@
 #   bench3d  the 3D cut (periodic slab, all physics) at about 1 M and 4 M particles: particle-steps/s;
 #            BENCH_NZ layers (58 232), BENCH_STEPS (200), BENCH_ARGS more -var settings
 #   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut (or CHIP_WALL
-#            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py
+#            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py; in
+#            segments with CHIP_END (the epoch second the call must end by): restart.cutting in
+#            $OUT/chip3d-NYC-NZC/, continued by the next call from there or from .carry/chip3d-NYC-NZC/
+#            (about 600 bytes a particle: the carry's 64 MiB hold some 70,000 beside the sources; a
+#            larger cut goes on only on a machine still warm from the last call, from /tmp/cut)
 #   peer     the peer code (../shared/peer/, its binary in .carry/peer/) and sphcut on the seed-003
 #            case at PEER_NY (41) across over 0.907 mm, one after the other: time, us/step, forces
 #   timeline the 2D cut at PROF_NY (41) across, PROF_STEPS (3000) steps in contact under Nsight Systems
@@ -276,8 +280,16 @@ bench3d() {
 }
 
 chip3d() {
-  local ny=${NYC:-11} nz=${NZC:-20} cut=${CUTC:-0.3e-3}
-  mkdir -p $W/chip3d; cd $W/chip3d
+  local ny=${NYC:-11} nz=${NZC:-20} cut=${CUTC:-0.3e-3} cont=0 wall=${CHIP_WALL:-0}
+  local tag=chip3d-$ny-$nz${CHIP_TAG:-}; local d=$W/$tag
+  mkdir -p $d; cd $d
+  # a cut longer than one call: go on from the restart file a previous segment left (on this
+  # machine, or carried in .carry/TAG/ from the files of $OUT/TAG/)
+  if [ -f restart.cutting ]; then cont=1
+  elif [ -f "$ROOT/.carry/$tag/restart.cutting" ]; then cp "$ROOT/.carry/$tag/"* . && cont=1; fi
+  [ -n "${CHIP_END:-}" ] && wall=$(( CHIP_END - $(date +%s) - 60 ))
+  [ "$wall" -lt 0 ] && { say "chip3d ny $ny nz $nz: no time left in this call"; cd "$ROOT"; return 0; }
+  local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
   cat > chip.in <<EOI
 include $EX3
 dump_sph snap all \${printevery} chip.dump id type x y z temperature plastic_strain role
@@ -285,11 +297,13 @@ dump_modify snap sort id
 run 0
 EOI
   timeout ${CHIP_TIMEOUT:-590} "$BIN" $GPUK $NEV -in chip.in -var ny $ny -var nz $nz -var sides free -var cut $cut \
-    -var xstart ${XSTARTC:-3} -var walltime ${CHIP_WALL:-0} -var thermoevery 5000 -var printevery 100 ${CHIP_ARGS:-} \
-    -log log.cutting > screen 2>&1 || tail -3 screen
-  say "chip3d ny $ny nz $nz (free sides): $(grep '^Loop time' log.cutting | tail -2 | head -1)"
+    -var xstart ${XSTARTC:-3} -var walltime $wall -var continue $cont -var thermoevery 5000 -var printevery 100 \
+    ${CHIP_ARGS:-} -log log.seg$seg > screen 2>&1 || tail -3 screen
+  say "chip3d ny $ny nz $nz (free sides), segment $seg (continue $cont, walltime $wall): $(grep '^Loop time' log.seg$seg | tail -2 | head -1)"
   say "  $(tail -1 forces.dat)"
-  python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -2 | sed 's/^/  /' | tee -a "$SUM"
+  say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
+  python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
+  mkdir -p "$OUT/$tag" && cp forces.dat log.seg* "$OUT/$tag/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/$tag/"; }
   # the region around the tool (x >= CHIP_CROP, m) for the picture
   [ -f chip.dump ] && CHIP_CROP=${CHIP_CROP:--1} python3 - "$OUT/chip3d.dump.gz" <<'EOP'
 import gzip, os, sys
