@@ -65,11 +65,12 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // while particles x lanes exceed TEAM_FILL (the threads that fill a GPU of about a hundred
   // multiprocessors); threads per team
   enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
-  // the one-thread-per-particle pass (neigh_pass, the full list where team_lanes gives 0) in blocks
-  // of 128 threads, at least NEIGH_MINB of them on a multiprocessor (at most 168 registers a thread
-  // in 3D, no spill): measured on one H200 against Kokkos' own block size (bench/gpu/RESULTS.md,
-  // "Launch bounds"), the 3D slab at 4.24 M -2 %, the 2D cut at 70k particles about -10 %.
-  // SPHCUT_PAIR_BOUNDS=0 (environment) launches it unbounded, as before, for that comparison.
+  // the one-thread-per-particle pass (neigh_pass, the full list where team_lanes gives 0) compiled
+  // with launch bounds: at most 128 threads a block, NEIGH_MINB blocks on a multiprocessor (at most
+  // 168 registers a thread in 3D, no spill): measured on one H200 against the unbounded pass
+  // (bench/gpu/RESULTS.md, "Launch bounds"), the 3D slab at 4.24 M -2 %, the 2D cut at 70k
+  // particles about -10 %.  SPHCUT_PAIR_BOUNDS=0 (environment) runs the unbounded one, as before,
+  // for that comparison.
   enum { NEIGH_MINB = 3 };
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of

@@ -111,9 +111,9 @@ KOKKOS_INLINE_FUNCTION void sum_min_join(volatile double *dst, const volatile do
 // constants, often more than 512 bytes) as a kernel argument.  Without the hint Kokkos 3.4 puts
 // functors over 512 bytes into constant memory, and each such launch waits for the previous one
 // to finish (cudaEventSynchronize): the host cannot run ahead of the device, and the fixed cost
-// of a step grows with the number of kernels (measured: bench/gpu/RESULTS.md).  MINB > 0: launch
-// bounds, blocks of 128 threads and at least MINB of them on a multiprocessor (else Kokkos chooses
-// the block size from the kernel's registers)
+// of a step grows with the number of kernels (measured: bench/gpu/RESULTS.md).  MINB > 0: the
+// kernel compiled with launch bounds, at most 128 threads a block and MINB blocks on a
+// multiprocessor (a cap on its registers; Kokkos chooses the block size within them)
 template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
 {
   typedef typename std::conditional<MINB == 0, Kokkos::LaunchBounds<>, Kokkos::LaunchBounds<128, MINB>>::type
