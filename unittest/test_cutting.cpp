@@ -18,6 +18,41 @@
 
 using sphcut_test::Lammps;
 
+// the restart tests' helpers: positions by atom ID over all ranks; rank 0 removes the periodic
+// restart files of an earlier test (restart.a, restart.b), or puts restart.b where -var continue
+// reads (restart.cutting; false when there is none)
+std::vector<double> gathered_positions(Lammps &l)
+{
+  std::vector<double> x(3 * static_cast<size_t>(l.lmp->atom->natoms));
+  lammps_gather_atoms(l.lmp, (char *) "x", 1, 3, x.data());
+  return x;
+}
+
+void remove_periodic_restarts()
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  if (me == 0) {
+    std::remove("restart.a");
+    std::remove("restart.b");
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}
+
+bool continue_from_restart_b()
+{
+  int me, ok = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  if (me == 0) {
+    std::ifstream src("restart.b", std::ios::binary);
+    ok = src.good();
+    std::ofstream dst("restart.cutting", std::ios::binary);
+    if (ok) dst << src.rdbuf();
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  return ok;
+}
+
 // spall: the example's pair_coeff spall (its default release, and cutoff); tol: the energy
 // balance's tolerance, 3x the measured error
 void quick_cut(const char *spall, double tol)
@@ -115,24 +150,15 @@ TEST(Cutting, RestartContinuesTheCut)
     l->lmp->input->file(in.c_str());
     return l;
   };
-  auto positions = [](Lammps &l) {    // by atom ID, over all ranks
-    std::vector<double> x(3 * static_cast<size_t>(l.lmp->atom->natoms));
-    lammps_gather_atoms(l.lmp, (char *) "x", 1, 3, x.data());
-    return x;
-  };
   // the reference also writes restart.a / restart.b every 4000 steps (-var restartevery): the
   // one of step 8000 (restart.b) is the third split below
   int me;
   MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  if (me == 0) {
-    std::remove("restart.a");
-    std::remove("restart.b");
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  remove_periodic_restarts();
   auto ref = run(9000, 0, 4000);
   const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), work = ref->equal("f_cut[13]");
   const double eint = ref->equal("f_sph[2]");
-  const std::vector<double> xref = positions(*ref);
+  const std::vector<double> xref = gathered_positions(*ref);
   ref.reset();
   // relative tolerance of the sums and absolute one of the positions [m]: bitwise on one rank,
   // about 3x the measured round-off on several (2 ranks, the example's cfl 0.5: Fc / Ft 3.1e-13 /
@@ -142,20 +168,15 @@ TEST(Cutting, RestartContinuesTheCut)
   // run must not take the spring's limit the unsplit run did not take; it did, and the first
   // contact came 2 % off)
   for (int split : {6000, 8000, -8000}) {
-    if (split > 0) {
+    if (split > 0)
       run(split, 0).reset();
-    } else if (me == 0) {    // go on from the periodic restart file of step 8000
-      std::ifstream src("restart.b", std::ios::binary);
-      ASSERT_TRUE(src.good()) << "restartevery 4000 wrote no restart.b";
-      std::ofstream dst("restart.cutting", std::ios::binary);
-      dst << src.rdbuf();
-    }
-    MPI_Barrier(MPI_COMM_WORLD);
+    else    // go on from the periodic restart file of step 8000
+      ASSERT_TRUE(continue_from_restart_b()) << "restartevery 4000 wrote no restart.b";
     auto cont = run(9000 - std::abs(split), 1);
     EXPECT_EQ(cont->lmp->update->ntimestep, 9000);
     const double fc2 = cont->equal("v_Fc"), ft2 = cont->equal("v_Ft"), work2 = cont->equal("f_cut[13]");
     const double eint2 = cont->equal("f_sph[2]");
-    const std::vector<double> x = positions(*cont);
+    const std::vector<double> x = gathered_positions(*cont);
     ASSERT_EQ(x.size(), xref.size());
     double worst = 0.0;
     for (size_t k = 0; k < x.size(); k++) worst = std::max(worst, fabs(x[k] - xref[k]));
@@ -199,35 +220,21 @@ TEST(Cutting, RestartContinuesThe3DCut)
     l->lmp->input->file(in.c_str());
     return l;
   };
-  auto positions = [](Lammps &l) {
-    std::vector<double> x(3 * static_cast<size_t>(l.lmp->atom->natoms));
-    lammps_gather_atoms(l.lmp, (char *) "x", 1, 3, x.data());
-    return x;
-  };
-  if (me == 0) {
-    std::remove("restart.a");
-    std::remove("restart.b");
-  }
-  MPI_Barrier(MPI_COMM_WORLD);
+  remove_periodic_restarts();
   auto ref = run(1500, 0, 500);
   const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), tmax = ref->equal("v_Tmax");
-  const std::vector<double> xref = positions(*ref);
+  const std::vector<double> xref = gathered_positions(*ref);
   ref.reset();
   const double rtol = 0.0, xtol = 0.0;
   for (int split : {1000, -1000}) {
-    if (split > 0) {
+    if (split > 0)
       run(split, 0, 500).reset();
-    } else if (me == 0) {    // restart.b: step 1000 (restart.a: 500, then 1500)
-      std::ifstream src("restart.b", std::ios::binary);
-      ASSERT_TRUE(src.good()) << "restartevery 500 wrote no restart.b";
-      std::ofstream dst("restart.cutting", std::ios::binary);
-      dst << src.rdbuf();
-    }
-    MPI_Barrier(MPI_COMM_WORLD);
+    else    // restart.b: step 1000 (restart.a: 500, then 1500)
+      ASSERT_TRUE(continue_from_restart_b()) << "restartevery 500 wrote no restart.b";
     auto cont = run(1500 - std::abs(split), 1, 500);
     EXPECT_EQ(cont->lmp->update->ntimestep, 1500);
     const double fc2 = cont->equal("v_Fc"), ft2 = cont->equal("v_Ft"), tmax2 = cont->equal("v_Tmax");
-    const std::vector<double> x = positions(*cont);
+    const std::vector<double> x = gathered_positions(*cont);
     ASSERT_EQ(x.size(), xref.size());
     double worst = 0.0;
     for (size_t k = 0; k < x.size(); k++) worst = std::max(worst, fabs(x[k] - xref[k]));

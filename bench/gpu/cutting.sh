@@ -130,6 +130,25 @@ rate2d() {
   cd "$ROOT"
 }
 
+# a run in segments (cut2d, chip3d): into $W/$1, continuing (cont=1) from the restart file a
+# previous segment left there (a warm machine) or in .carry/$1/ (the files of $OUT/$1/ of the last
+# call); the segment's number (seg: log.seg<seg>) and its wall time (wall, when $2, the epoch
+# second the call must end by, is set: that less $3 seconds); returns 1 when no time is left
+segment_start() {
+  mkdir -p $W/$1 && cd $W/$1
+  cont=0
+  if [ -f restart.cutting ]; then cont=1
+  elif [ -f "$ROOT/.carry/$1/restart.cutting" ]; then cp "$ROOT/.carry/$1/"* . && cont=1; fi
+  [ -n "$2" ] && wall=$(( $2 - $(date +%s) - $3 ))
+  seg=$(ls log.seg* 2>/dev/null | wc -l)
+  [ "$wall" -ge 0 ]
+}
+
+# the segment's files for the next call: forces.dat, the logs and the restart file into $OUT/$1/
+segment_save() {
+  mkdir -p "$OUT/$1" && cp forces.dat log.seg* "$OUT/$1/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/$1/"; }
+}
+
 # the 2D cut at NY across over CUT of cut, in segments that fit the device tool's calls: with
 # CUT_END (the epoch second the call must end by) the run stops in time and writes
 # restart.cutting; the next call continues it (from /tmp/cut on a warm machine, else from
@@ -137,13 +156,8 @@ rate2d() {
 # example's auto: 1.5 from 41 across); CUT_ARGS: more -var settings (e.g. "-var dtfac 0.5"), CUT_TAG:
 # a suffix of the run's folder (cut2d-NY<tag>) to keep such a run apart
 cut2d() {
-  local ny=${NY:-41} cut=${CUT:-2e-3} cont=0 wall=0; local tag=cut2d-$ny${CUT_TAG:-}; local d=$W/$tag
-  mkdir -p $d; cd $d
-  if [ -f restart.cutting ]; then cont=1
-  elif [ -f "$ROOT/.carry/$tag/restart.cutting" ]; then cp "$ROOT/.carry/$tag/"* . && cont=1; fi
-  [ -n "${CUT_END:-}" ] && wall=$(( CUT_END - $(date +%s) - 40 ))
-  [ "$wall" -lt 0 ] && { say "cut2d ny $ny: no time left in this call"; cd "$ROOT"; return 0; }
-  local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
+  local ny=${NY:-41} cut=${CUT:-2e-3} cont=0 wall=0 seg; local tag=cut2d-$ny${CUT_TAG:-}
+  segment_start $tag "${CUT_END:-}" 40 || { say "cut2d ny $ny: no time left in this call"; cd "$ROOT"; return 0; }
   local t0; t0=$(date +%s)
   timeout ${CUT_TIMEOUT:-580} "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut $cut -var thermoevery 10000 \
     -var printevery 100 -var dumpevery 0 -var continue $cont -var walltime $wall -var hdx ${HDX:-0} ${CUT_ARGS:-} \
@@ -152,7 +166,7 @@ cut2d() {
   say "  $(tail -1 forces.dat)"
   say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
-  mkdir -p "$OUT/$tag" && cp forces.dat log.seg* "$OUT/$tag/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/$tag/"; }
+  segment_save $tag
   cd "$ROOT"
 }
 
@@ -280,16 +294,10 @@ bench3d() {
 }
 
 chip3d() {
-  local ny=${NYC:-11} nz=${NZC:-20} cut=${CUTC:-0.3e-3} cont=0 wall=${CHIP_WALL:-0}
-  local tag=chip3d-$ny-$nz${CHIP_TAG:-}; local d=$W/$tag
-  mkdir -p $d; cd $d
-  # a cut longer than one call: go on from the restart file a previous segment left (on this
-  # machine, or carried in .carry/TAG/ from the files of $OUT/TAG/)
-  if [ -f restart.cutting ]; then cont=1
-  elif [ -f "$ROOT/.carry/$tag/restart.cutting" ]; then cp "$ROOT/.carry/$tag/"* . && cont=1; fi
-  [ -n "${CHIP_END:-}" ] && wall=$(( CHIP_END - $(date +%s) - 60 ))
-  [ "$wall" -lt 0 ] && { say "chip3d ny $ny nz $nz: no time left in this call"; cd "$ROOT"; return 0; }
-  local seg; seg=$(ls log.seg* 2>/dev/null | wc -l)
+  local ny=${NYC:-11} nz=${NZC:-20} cut=${CUTC:-0.3e-3} cont=0 wall=${CHIP_WALL:-0} seg
+  local tag=chip3d-$ny-$nz${CHIP_TAG:-}
+  # a cut longer than one call goes on from the restart file of the previous segment
+  segment_start $tag "${CHIP_END:-}" 60 || { say "chip3d ny $ny nz $nz: no time left in this call"; cd "$ROOT"; return 0; }
   cat > chip.in <<EOI
 include $EX3
 dump_sph snap all \${printevery} chip.dump id type x y z temperature plastic_strain role
@@ -303,7 +311,7 @@ EOI
   say "  $(tail -1 forces.dat)"
   say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
-  mkdir -p "$OUT/$tag" && cp forces.dat log.seg* "$OUT/$tag/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/$tag/"; }
+  segment_save $tag
   # the region around the tool (x >= CHIP_CROP, m) for the picture
   [ -f chip.dump ] && CHIP_CROP=${CHIP_CROP:--1} python3 - "$OUT/chip3d.dump.gz" <<'EOP'
 import gzip, os, sys
