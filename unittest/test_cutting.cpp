@@ -200,8 +200,8 @@ TEST(Cutting, RestartContinuesTheCut)
 // the 3D example continued from its restart file (-var continue 1) gives the cut of the unsplit
 // run: the 3D cut with free sides at 6 across and 3 layers (1,398 particles), the tool 0.6
 // spacings off, in contact from about step 100; split at step 1000 of 1500, from the file the
-// first part writes at its end and from the periodic restart file of step 1000.  Every run
-// writes restart files every 500 steps (-var restartevery 500): LAMMPS rebuilds the neighbour
+// first part writes at its end (with restartevery) and from the periodic restart file of step 1000.
+// Every run writes restart files every 500 steps (-var restartevery 500): LAMMPS rebuilds the neighbour
 // lists at each step that writes one, which orders the sums differently (without it in the first
 // part: 8e-14 in Fc after the split on one rank, 2.7e-14 on two).  With the same schedule the
 // continued cut is bitwise the unsplit one, on one rank and on two (test_cutting_restart_np2)
