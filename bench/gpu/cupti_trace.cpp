@@ -83,7 +83,8 @@ std::string short_name(const char *mangled)
   // no method: the LAMMPS names in it (a functor and its tag, e.g. NeighborKokkos
   // TagNeighborCheckDistance), else the name without Kokkos' launch wrappers
   std::string names;
-  for (size_t p = s.find("LAMMPS_NS::"); p != std::string::npos && names.size() < 80; p = s.find("LAMMPS_NS::", p + 1)) {
+  for (size_t p = s.find("LAMMPS_NS::"); p != std::string::npos && names.size() < 80;
+       p = s.find("LAMMPS_NS::", p + 1)) {
     size_t q = p + 11, e = q;
     while (e < s.size() && (std::isalnum((unsigned char) s[e]) || s[e] == '_')) e++;
     const std::string id = s.substr(q, e - q);
