@@ -159,9 +159,24 @@ long env_long(const char *name, long def)
   return e && *e ? std::atol(e) : def;
 }
 
+// the records still in CUPTI's buffers: when the context goes (the CUDA runtime may tear it
+// down before the exit handlers run) and again at the exit (then quietly: it may be gone)
+bool flushed = false, summarised = false;
+
+void CUPTIAPI on_resource(void *, CUpti_CallbackDomain domain, CUpti_CallbackId cbid, const void *)
+{
+  if (domain == CUPTI_CB_DOMAIN_RESOURCE && cbid == CUPTI_CBID_RESOURCE_CONTEXT_DESTROY_STARTING) {
+    check(cuptiActivityFlushAll(CUPTI_ACTIVITY_FLAG_FLUSH_FORCED), "cuptiActivityFlushAll");
+    flushed = true;
+  }
+}
+
 void summarise()
 {
-  check(cuptiActivityFlushAll(1), "cuptiActivityFlushAll");
+  if (summarised) return;
+  summarised = true;
+  if (cuptiActivityFlushAll(CUPTI_ACTIVITY_FLAG_FLUSH_FORCED) != CUPTI_SUCCESS && !flushed)
+    std::fprintf(stderr, "cupti_trace: the last records could not be flushed\n");
   std::lock_guard<std::mutex> g(lock);
   const char *out = std::getenv("CUPTI_TRACE_OUT");
   FILE *f = out && *out ? std::fopen(out, "w") : stderr;
@@ -269,6 +284,10 @@ extern "C" int InitializeInjection(void)
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMSET), "enable memsets");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_RUNTIME), "enable runtime calls");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_SYNCHRONIZATION), "enable synchronisations");
+  CUpti_SubscriberHandle sub;
+  check(cuptiSubscribe(&sub, (CUpti_CallbackFunc) on_resource, nullptr), "cuptiSubscribe");
+  check(cuptiEnableCallback(1, sub, CUPTI_CB_DOMAIN_RESOURCE, CUPTI_CBID_RESOURCE_CONTEXT_DESTROY_STARTING),
+        "cuptiEnableCallback");
   std::atexit(summarise);
   return 1;
 }
