@@ -593,7 +593,8 @@ ab() {
 
 # the same binary under different environment settings, in turn ENVAB_REPS (2) times: each ';'-separated
 # set of ENVAB_SETS (default "SPHCUT_PAIR_BOUNDS=0;SPHCUT_PAIR_BOUNDS=1") on the 2D cut in contact at ENVAB_NY
-# (41 81) across, PROF_STEPS steps (us/step), and on the 3D slab at ENVAB_NZ (232) layers (ms/step)
+# (41 81) across, PROF_STEPS steps (us/step), and on the 3D slab at ENVAB_NZ (232) layers (ms/step);
+# ENVAB_NY= or ENVAB_NZ= (empty) leaves that part out
 envab() {
   cd $W
   local steps=${PROF_STEPS:-2000} sets r k set ny nz
@@ -602,10 +603,10 @@ envab() {
     for k in "${!sets[@]}"; do
       set=${sets[$k]}
       say "  envab r$r [$set]"
-      for ny in ${ENVAB_NY:-41 81}; do
+      for ny in ${ENVAB_NY-41 81}; do
         (export $set; prof_run ev${k}n${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV)
       done
-      for nz in ${ENVAB_NZ:-232}; do
+      for nz in ${ENVAB_NZ-232}; do
         (export $set; slab_run ev${k}z${nz}r$r $nz)
         say "    3D nz $nz: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.ev${k}z${nz}r$r)"
       done
