@@ -244,10 +244,7 @@ template <class DeviceType> struct DeviceNeighbours {
     const int j = d.av.neighbors(i, k) & NEIGHMASK;
     return type(j) > 0 ? j : -1;
   }
-  KOKKOS_INLINE_FUNCTION void pos(int j, double *xj) const
-  {
-    for (int a = 0; a < 3; a++) xj[a] = d.hr(j, HR_X + a);
-  }
+  KOKKOS_INLINE_FUNCTION void pos(int j, double *xj) const { pos_type(j, xj); }
   KOKKOS_INLINE_FUNCTION double h(int j) const { return d.hij(itn + type(j)); }
   KOKKOS_INLINE_FUNCTION bool pair(int k, sphcut::HeatPair &p) const
   {

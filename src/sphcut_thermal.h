@@ -1004,15 +1004,16 @@ SPHCUT_INLINE double side_conductance(const ThermalPair &tp, bool fmfs, const do
 }
 
 // the two sides' conductances over wfac of the pair i-j (dx = x_i - x_j, ir2 = 1/|dx|^2):
-// s_ij = k_i w_ij / wfac from the FMFS weights wi of particle i, or Brookshaw's (tp.brook) where
-// wi is nullptr; s_ji likewise from j's side
+// s_ij = k_i w_ij / wfac from the FMFS weights wi of particle i where it has them (fi), else
+// Brookshaw's (tp.brook); s_ji likewise from j's side.  Flags, not pointers that may be null: a
+// GPU keeps the weights' arrays in registers then, not in local memory
 template <int DIM>
-SPHCUT_INLINE void exchange_sides(const ThermalPair &tp, const double *dx, double ir2, double ki, const double *wi,
-                                  double kj, const double *wj, double &s_ij, double &s_ji)
+SPHCUT_INLINE void exchange_sides(const ThermalPair &tp, const double *dx, double ir2, bool fi, const double *wi,
+                                  double ki, bool fj, const double *wj, double kj, double &s_ij, double &s_ji)
 {
   const double mdx[3] = {-dx[0], -dx[1], -dx[2]};
-  s_ij = side_conductance<DIM>(tp, wi != nullptr, wi, ki, dx, ir2);
-  s_ji = side_conductance<DIM>(tp, wj != nullptr, wj, kj, mdx, ir2);
+  s_ij = side_conductance<DIM>(tp, fi, wi, ki, dx, ir2);
+  s_ji = side_conductance<DIM>(tp, fj, wj, kj, mdx, ir2);
 }
 
 // the FMFS weights of a particle (DIM*DIM + DIM of them, an even count) into registers, in
@@ -1031,8 +1032,7 @@ template <int DIM> SPHCUT_INLINE void load_weights(const double *w, double *out)
 template <int DIM, class Nb, class Add>
 SPHCUT_LOOP_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, double Vi, const double *wi, Add &&add)
 {
-  // i's weights once, in registers; j's in 16-byte pairs (side_conductance with a flag, not a
-  // pointer that may be null: a GPU keeps the arrays in registers then, not in local memory)
+  // i's weights once, in registers; j's in 16-byte pairs
   double fi[DIM * DIM + DIM], fj[DIM * DIM + DIM];
   const bool wfi = wi[0] > 0.0;
   if (wfi) load_weights<DIM>(wi + 1, fi);
@@ -1044,9 +1044,8 @@ SPHCUT_LOOP_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, doub
     const double *wj = nb.weights(p.j);
     const bool wfj = wj[0] > 0.0;
     if (wfj) load_weights<DIM>(wj + 1, fj);
-    const double mdx[3] = {-p.dx[0], -p.dx[1], -p.dx[2]};
-    const double s_ij = side_conductance<DIM>(*p.tp, wfi, fi, ki, p.dx, p.ir2);
-    const double s_ji = side_conductance<DIM>(*p.tp, wfj, fj, wfj ? nb.kappa(p.j) : 0.0, mdx, p.ir2);
+    double s_ij, s_ji;
+    exchange_sides<DIM>(*p.tp, p.dx, p.ir2, wfi, fi, ki, wfj, fj, wfj ? nb.kappa(p.j) : 0.0, s_ij, s_ji);
     const double c = p.wfac * conductance_pair(s_ij, s_ji, p.tp->brook), dT = nb.temp(p.j) - Ti;
     ri += nb.volume(p.j) * c * dT;
     add(p.j, -(Vi * c * dT));

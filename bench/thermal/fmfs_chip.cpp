@@ -96,8 +96,7 @@ int main(int argc, char **argv)
       const ThermalPair &T = tp[ty[i]][ty[j]];
       if (!thermal_support(T, KERNEL_CUBIC, &x[3 * i], &x[3 * j], d, r2, wfac, ir2)) continue;
       double ai, aj;
-      exchange_sides<DIM>(T, d, ir2, kap[ty[i]], fm[i] ? &wts[i * NW] : nullptr, kap[ty[j]], fm[j] ? &wts[j * NW] : nullptr,
-                          ai, aj);
+      exchange_sides<DIM>(T, d, ir2, fm[i], &wts[i * NW], kap[ty[i]], fm[j], &wts[j * NW], kap[ty[j]], ai, aj);
       double c = wfac * conductance_mean(ai, aj);
       const double cb = wfac * T.brook;
       if (i < j) {

@@ -84,8 +84,8 @@ template <int DIM> int run(int n, double hdx, double jit, unsigned seed, double 
       double dx[3], r2, wfac, ir2;
       if (!thermal_support(tp, KERNEL_CUBIC, &x[3 * i], &x[3 * j], dx, r2, wfac, ir2)) continue;
       double ai, aj;
-      exchange_sides<DIM>(tp, dx, ir2, kappa, fm[i] ? &wts[i * (DIM * DIM + DIM)] : nullptr, kappa,
-                          fm[j] ? &wts[j * (DIM * DIM + DIM)] : nullptr, ai, aj);
+      exchange_sides<DIM>(tp, dx, ir2, fm[i], &wts[i * (DIM * DIM + DIM)], kappa, fm[j], &wts[j * (DIM * DIM + DIM)],
+                          kappa, ai, aj);
       double c = wfac * conductance_mean(ai, aj);
       const double cb = wfac * tp.brook;
       npair++;
