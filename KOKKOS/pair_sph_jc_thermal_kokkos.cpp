@@ -201,9 +201,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int dim = domain->dimension;
-  int any_as = 0;
-  for (int t = 1; t <= atom->ntypes; t++)
-    if (mdl.material(t).defined && mdl.material(t).as_eps > 0.0) any_as = 1;
+  const int any_as = mdl.any_artificial_stress();
   const int pk_cols = sphcut::pack_width(any_as);
   if (atom->nmax > nmax_kk || (int) d_pack.extent(1) != pk_cols) {
     d_pack = typename AT::t_double_2d("pair:pack", atom->nmax, pk_cols);

@@ -205,9 +205,7 @@ void PairSPHJCThermal::compute(int eflag, int vflag)
 
   // per particle (local + ghost): its packed row, with the Cauchy and artificial stress of the
   // force state; mass 0 marks particles outside the SPH solid (not in the group, tool)
-  int any_as = 0;
-  for (int t = 1; t <= atom->ntypes; t++)
-    if (mat[t].defined && mat[t].as_eps > 0.0) any_as = 1;
+  const int any_as = mdl.any_artificial_stress();
   const int nacc = newton_pair ? nall : nlocal;
   for (int i = 0; i < nall; i++) {
     if (i < nacc)

@@ -65,6 +65,13 @@ class Model {
   double hourglass_coefficient() const { return hourglass; }
   int dimension() const { return dim; }
   int ntypes() const { return nt; }
+  // some defined material has an artificial stress (the pair's rows then carry R: pack_width)
+  bool any_artificial_stress() const
+  {
+    for (int t = 1; t <= nt; t++)
+      if (mat[t].defined && mat[t].as_eps > 0.0) return true;
+    return false;
+  }
 
   // ---- the owner (pair style): parse, mix, store, restart
   void allocate(int ntypes);
