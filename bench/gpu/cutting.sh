@@ -276,9 +276,17 @@ slab_run() {
     -var thermoevery 100 -var printevery 100 "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
 }
 
+# a slab run's rate from its log: particles, steps, ms a step, particle-steps/s
+slab_rate() {
+  awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' "$1"
+}
+
+# the CUDA toolkit's folder (the nvcc on PATH)
+cuda_root() { dirname "$(dirname "$(command -v nvcc)")"; }
+
 # bench/gpu/kp_timer.cpp as $W/libkp_timer.so (KOKKOS_PROFILE_LIBRARY)
 kp_timer_lib() {
-  local cuda; cuda=$(dirname "$(dirname "$(command -v nvcc)")")
+  local cuda; cuda=$(cuda_root)
   g++ -O2 -shared -fPIC -o $W/libkp_timer.so "$ROOT/bench/gpu/kp_timer.cpp" -I$cuda/include -L$cuda/lib64 -lcudart
 }
 
@@ -572,7 +580,7 @@ ab() {
       done
       for nz in ${AB_NZ:-58 232}; do
         BIN=$bin LAMMPS_PLUGIN_PATH=$pp slab_run ab$v$nz$r $nz
-        say "  ab$v 3D nz $nz r$r: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.ab$v$nz$r)"
+        say "  ab$v 3D nz $nz r$r: $(slab_rate log.ab$v$nz$r)"
       done
     done
   done
@@ -608,7 +616,7 @@ envab() {
       done
       for nz in ${ENVAB_NZ-232}; do
         (export $set; slab_run ev${k}z${nz}r$r $nz)
-        say "    3D nz $nz: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' log.ev${k}z${nz}r$r)"
+        say "    3D nz $nz: $(slab_rate log.ev${k}z${nz}r$r)"
       done
     done
   done
@@ -623,7 +631,7 @@ envab() {
 trace() {
   cd $W
   local cuda inc lib ny=${PROF_NY:-41} steps=${PROF_STEPS:-3000}
-  cuda=$(dirname "$(dirname "$(command -v nvcc)")")
+  cuda=$(cuda_root)
   inc=$(dirname "$(find "$cuda/" -name cupti.h 2>/dev/null | head -1)")
   lib=$(dirname "$(find "$cuda/" -name 'libcupti.so*' 2>/dev/null | head -1)")
   [ -n "$inc" ] && [ -n "$lib" ] || { say "trace: no CUPTI under $cuda"; cd "$ROOT"; return 1; }
