@@ -5,7 +5,7 @@
 # Expects ROOT.
 OUT="${OUT:-$PWD/gpu-out}"
 mkdir -p "$OUT"
-NJ=$(nproc)
+NJ=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)    # (nproc follows OMP_NUM_THREADS, exported below: a second script sourcing this would build on one core)
 export SPHCUT_CACHE=/tmp/sphcut-cache
 export CUDA_CACHE_MAXSIZE=4294967296      # room for the JIT-compiled sm_90 code
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1

@@ -40,7 +40,10 @@ struct Span {
 };
 std::vector<Span> spans;
 std::mutex lock;
-const size_t BUF = 8u << 20;
+// small buffers, so that CUPTI hands them over while the run goes on (about 6 KB of records a step):
+// what the exit's flush may miss (the CUDA runtime may have torn the context down) is only the
+// run's end, after the window
+const size_t BUF = 1u << 20;
 
 void check(CUptiResult r, const char *what)
 {
@@ -159,23 +162,13 @@ long env_long(const char *name, long def)
   return e && *e ? std::atol(e) : def;
 }
 
-// the records still in CUPTI's buffers: when the context goes (the CUDA runtime may tear it
-// down before the exit handlers run) and again at the exit (then quietly: it may be gone)
-bool flushed = false, summarised = false;
-
-void CUPTIAPI on_resource(void *, CUpti_CallbackDomain domain, CUpti_CallbackId cbid, const void *)
-{
-  if (domain == CUPTI_CB_DOMAIN_RESOURCE && cbid == CUPTI_CBID_RESOURCE_CONTEXT_DESTROY_STARTING) {
-    check(cuptiActivityFlushAll(CUPTI_ACTIVITY_FLAG_FLUSH_FORCED), "cuptiActivityFlushAll");
-    flushed = true;
-  }
-}
+bool summarised = false;
 
 void summarise()
 {
   if (summarised) return;
   summarised = true;
-  if (cuptiActivityFlushAll(CUPTI_ACTIVITY_FLAG_FLUSH_FORCED) != CUPTI_SUCCESS && !flushed)
+  if (cuptiActivityFlushAll(CUPTI_ACTIVITY_FLAG_FLUSH_FORCED) != CUPTI_SUCCESS)
     std::fprintf(stderr, "cupti_trace: the last records could not be flushed\n");
   std::lock_guard<std::mutex> g(lock);
   const char *out = std::getenv("CUPTI_TRACE_OUT");
@@ -191,6 +184,19 @@ void summarise()
   if ((long) marks.size() <= from + 1) {
     std::fprintf(f, "cupti_trace: %zu launches of a kernel named *%s*: no window of steps after the %ld-th\n",
                  marks.size(), mark.c_str(), from);
+    // what was recorded: records of each kind, the most launched kernels
+    long nkind[5] = {0, 0, 0, 0, 0};
+    std::map<std::string, long> launches;
+    for (const Span &s : spans) {
+      nkind[s.kind]++;
+      if (s.kind == 0) launches[s.name]++;
+    }
+    std::fprintf(f, "  records: %ld kernels, %ld copies, %ld memsets, %ld runtime calls, %ld synchronisations\n",
+                 nkind[0], nkind[1], nkind[2], nkind[3], nkind[4]);
+    std::vector<std::pair<long, std::string>> top;
+    for (const auto &e : launches) top.push_back({e.second, e.first});
+    std::sort(top.rbegin(), top.rend());
+    for (size_t k = 0; k < top.size() && k < 12; k++) std::fprintf(f, "  %8ld  %s\n", top[k].first, top[k].second.c_str());
     if (f != stderr) std::fclose(f);
     return;
   }
@@ -278,16 +284,18 @@ void summarise()
 // called by the CUDA driver at its initialisation (CUDA_INJECTION64_PATH)
 extern "C" int InitializeInjection(void)
 {
+  static bool done = false;    // the driver may call it more than once (seen with CUDA 13)
+  if (done) return 1;
+  done = true;
   check(cuptiActivityRegisterCallbacks(requested, completed), "cuptiActivityRegisterCallbacks");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_CONCURRENT_KERNEL), "enable kernels");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMCPY), "enable copies");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_MEMSET), "enable memsets");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_RUNTIME), "enable runtime calls");
   check(cuptiActivityEnable(CUPTI_ACTIVITY_KIND_SYNCHRONIZATION), "enable synchronisations");
-  CUpti_SubscriberHandle sub;
-  check(cuptiSubscribe(&sub, (CUpti_CallbackFunc) on_resource, nullptr), "cuptiSubscribe");
-  check(cuptiEnableCallback(1, sub, CUPTI_CB_DOMAIN_RESOURCE, CUPTI_CBID_RESOURCE_CONTEXT_DESTROY_STARTING),
-        "cuptiEnableCallback");
+  // and a flush by CUPTI's own thread every 200 ms besides the full buffers (a subscription to the
+  // context's destruction is refused on the device machine: CUPTI_ERROR_MULTIPLE_SUBSCRIBERS_NOT_SUPPORTED)
+  check(cuptiActivityFlushPeriod(200), "cuptiActivityFlushPeriod");
   std::atexit(summarise);
   return 1;
 }
