@@ -46,8 +46,6 @@
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
 #            steps (particle-steps/s); AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
 #            (kernel times)
-#   trace    the device's own timeline of the 2D cut at PROF_NY (41) across (bench/gpu/cupti_trace.cpp:
-#            CUPTI, nothing synchronised): busy and idle time a step, each kernel, the host's waits
 #   envab    one binary under ENVAB_SETS environment settings (;-separated, e.g. SPHCUT_PAIR_BOUNDS=0), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
@@ -352,7 +350,7 @@ prof() {
   cd $W
   kp_timer_lib || { say "prof: kp_timer build failed"; cd "$ROOT"; return 1; }
   local steps=${PROF_STEPS:-3000}
-  for ny in ${PROF_NY:-21 41}; do
+  for ny in ${PROF_NY-21 41}; do
     say "prof 2D ny $ny ($steps steps in contact)"
     prof_run p2d$ny "$EX2" -var ny $ny -var steps $steps
     prof_run p2d${ny}n10 "$EX2" -var ny $ny -var steps $steps -var neighevery 10
@@ -620,28 +618,6 @@ envab() {
       done
     done
   done
-  cd "$ROOT"
-}
-
-# the device's own timeline of the 2D cut in contact at PROF_NY (41) across (bench/gpu/cupti_trace.cpp,
-# CUPTI activity records, nothing synchronised): PROF_STEPS (3000) steps, the window TRACE_FROM (1000)
-# to TRACE_FROM + TRACE_STEPS (1500); per step the device's busy and idle time, its idle gaps by
-# length, each kernel's time and launches, the host's runtime calls and synchronisations; beside it
-# the same input untraced (wall us/step).  TRACE_ARGS: more -var settings (e.g. "-var ny 81")
-trace() {
-  cd $W
-  local cuda inc lib ny=${PROF_NY:-41} steps=${PROF_STEPS:-3000}
-  cuda=$(cuda_root)
-  inc=$(dirname "$(find "$cuda/" -name cupti.h 2>/dev/null | head -1)")
-  lib=$(dirname "$(find "$cuda/" -name 'libcupti.so*' 2>/dev/null | head -1)")
-  [ -n "$inc" ] && [ -n "$lib" ] || { say "trace: no CUPTI under $cuda"; cd "$ROOT"; return 1; }
-  g++ -O2 -shared -fPIC -o $W/libcupti_trace.so "$ROOT/bench/gpu/cupti_trace.cpp" -I$cuda/include -I$inc -L$lib -lcupti \
-    -Wl,-rpath,$lib > $W/trace-build.log 2>&1 || { say "trace: build failed"; tail -5 $W/trace-build.log; cd "$ROOT"; return 1; }
-  prof_run tr$ny "$EX2" -var ny $ny -var steps $steps $NEV ${TRACE_ARGS:-}
-  CUDA_INJECTION64_PATH=$W/libcupti_trace.so CUPTI_TRACE_OUT=$W/trace$ny.txt CUPTI_TRACE_FROM=${TRACE_FROM:-1000} \
-    CUPTI_TRACE_STEPS=${TRACE_STEPS:-1500} prof_run trc$ny "$EX2" -var ny $ny -var steps $steps $NEV ${TRACE_ARGS:-}
-  sed 's/^/    /' $W/trace$ny.txt | tee -a "$SUM"
-  cp $W/trace$ny.txt "$OUT/" 2>/dev/null
   cd "$ROOT"
 }
 
