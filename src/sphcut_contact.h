@@ -567,6 +567,8 @@ struct TriBinView {
   const int *index;        // element ids, bin by bin (bin = (iz n[1] + iy) n[0] + ix)
   const double *pnorm = nullptr;    // per element its feature pseudo-normals (tri_bin_pnorm_stride
                                     // doubles, see feature_pseudo_normal), or nullptr: face normals
+  double halo = 0.0;       // each bin lists every element within halo of its box (tri_bin_build:
+                           // the bin size), so that a query of radius <= halo reads one bin
 };
 
 // doubles of pseudo-normals per element: a triangle 3 edges + 3 vertices, a segment 2 vertices
@@ -616,31 +618,44 @@ SPHCUT_INLINE bool tri_bin_range(const TriBinView &g, const double *x, double ra
 
 /* every element listed in the bins around x whose closest point lies within distance radius
    (tool frame; segments: the distance in the x-y plane), bin by bin: visit(e, d2, q, region),
-   d2 = |x - q|^2.  The embedded sphere of each element is the cheap prefilter (seed 000).  An
-   element listed in several bins is visited once per bin. */
+   d2 = |x - q|^2.  The embedded sphere of each element is the cheap prefilter (seed 000).  A
+   query of radius <= g.halo reads the one bin holding x, whose list holds every element within
+   halo of the bin (each element once, in the order of their ids: on the GPU the length of a
+   contact particle's chain of dependent loads is this walk); a larger one the bins the radius
+   covers, where an element listed in several bins is visited once per bin. */
 template <class Visit>
 SPHCUT_INLINE void tri_bin_visit(const TriBinView &g, const double *x, double radius, Visit &&visit)
 {
   if (g.nelem <= 0 || g.n[0] <= 0) return;
-  int ilo[3], ihi[3];
-  if (!tri_bin_range(g, x, radius, ilo, ihi)) return;
   const double xx[3] = {x[0], x[1], g.nvert == 3 ? x[2] : 0.0};
   const double r2 = radius * radius;
+  auto visit_bin = [&](int bin) {
+    for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
+      const int e = g.index[m];
+      const double *s = g.sphere + 4 * e;
+      const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
+      if (dc2 > sq(radius + s[3])) continue;
+      double q[3];
+      int region;
+      const double d2 = tri_bin_closest(g, e, xx, q, region);
+      if (d2 <= r2) visit(e, d2, q, region);
+    }
+  };
+  if (radius <= g.halo) {
+    int ib[3] = {0, 0, 0};
+    for (int k = 0; k < (g.nvert == 3 ? 3 : 2); k++) {
+      const double f = floor((x[k] - g.lo[k]) / g.size);
+      if (!(f >= 0.0 && f < g.n[k])) return;    // beyond the grid: farther than halo from every element
+      ib[k] = (int) f;
+    }
+    visit_bin((ib[2] * g.n[1] + ib[1]) * g.n[0] + ib[0]);
+    return;
+  }
+  int ilo[3], ihi[3];
+  if (!tri_bin_range(g, x, radius, ilo, ihi)) return;
   for (int iz = ilo[2]; iz <= ihi[2]; iz++)
     for (int iy = ilo[1]; iy <= ihi[1]; iy++)
-      for (int ix = ilo[0]; ix <= ihi[0]; ix++) {
-        const int bin = (iz * g.n[1] + iy) * g.n[0] + ix;
-        for (int m = g.start[bin]; m < g.start[bin + 1]; m++) {
-          const int e = g.index[m];
-          const double *s = g.sphere + 4 * e;
-          const double dc2 = sq(xx[0] - s[0]) + sq(xx[1] - s[1]) + sq(xx[2] - s[2]);
-          if (dc2 > sq(radius + s[3])) continue;
-          double q[3];
-          int region;
-          const double d2 = tri_bin_closest(g, e, xx, q, region);
-          if (d2 <= r2) visit(e, d2, q, region);
-        }
-      }
+      for (int ix = ilo[0]; ix <= ihi[0]; ix++) visit_bin((iz * g.n[1] + iy) * g.n[0] + ix);
 }
 
 /* ----------------------------------------------------------------------

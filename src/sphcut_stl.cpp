@@ -831,6 +831,7 @@ TriBinView TriBins::view() const
   v.start = start.data();
   v.index = index.data();
   v.pnorm = pnorm.empty() ? nullptr : pnorm.data();
+  v.halo = halo;
   return v;
 }
 
@@ -866,13 +867,13 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
     s[3] = sqrt(r2) * (1.0 + 1.0e-12);
   }
 
-  // grid, enlarging the bins while there would be too many
+  // grid: the tool's box and one bin around it, enlarging the bins while there would be too many
   double size = bin_size;
   long nbin = 1;
   while (true) {
     nbin = 1;
     for (int k = 0; k < 3; k++) {
-      bins.n[k] = k < nd ? std::max(1, (int) std::ceil((hi[k] - lo[k]) / size)) : 1;
+      bins.n[k] = k < nd ? std::max(1, (int) std::ceil((hi[k] - lo[k]) / size)) + 2 : 1;
       nbin *= bins.n[k];
     }
     if (ne == 0) bins.n[0] = bins.n[1] = bins.n[2] = nbin = 1;
@@ -880,13 +881,20 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
     size *= 1.01 * std::pow((double) nbin / (double) max_bins, 1.0 / nd);
   }
   bins.size = size;
-  for (int k = 0; k < 3; k++) bins.lo[k] = k < nd ? lo[k] : 0.0;
+  bins.halo = ne > 0 ? size : 0.0;
+  for (int k = 0; k < 3; k++) {
+    bins.lo[k] = k < nd ? lo[k] - size : 0.0;
+    bins.box_lo[k] = lo[k];
+    bins.box_hi[k] = hi[k];
+  }
 
-  // element e goes into each bin of its bounding box whose (padded) box
-  // the element's plane (line) crosses; two passes: count, then fill
+  // element e goes into each bin whose box, grown by halo (and a pad), its bounding box overlaps
+  // and its plane (line) crosses: every element within halo of the bin, and some farther (the
+  // grown box is a cube, not a ball); two passes: count, then fill
   const double scale = std::max(std::fabs(lo[0]) + std::fabs(hi[0]),
                                 std::max(std::fabs(lo[1]) + std::fabs(hi[1]), std::fabs(lo[2]) + std::fabs(hi[2])));
   const double pad = 1.0e-9 * size + 1.0e-13 * scale;
+  const double grow = bins.halo + pad;
   bins.start.assign(nbin + 1, 0);
   for (int pass = 0; pass < 2; pass++) {
     std::vector<int> fill;
@@ -907,10 +915,10 @@ void tri_bin_build(const std::vector<double> &elem, int nvert, double bin_size, 
           emin = std::min(emin, v[3 * m + k]);
           emax = std::max(emax, v[3 * m + k]);
         }
-        ilo[k] = std::max(0, (int) std::floor((emin - pad - bins.lo[k]) / size));
-        ihi[k] = std::min(bins.n[k] - 1, (int) std::floor((emax + pad - bins.lo[k]) / size));
+        ilo[k] = std::max(0, (int) std::floor((emin - grow - bins.lo[k]) / size));
+        ihi[k] = std::min(bins.n[k] - 1, (int) std::floor((emax + grow - bins.lo[k]) / size));
       }
-      const double hw = 0.5 * size + pad;
+      const double hw = 0.5 * size + grow;
       const double reach = hw * (std::fabs(nrm[0]) + std::fabs(nrm[1]) + std::fabs(nrm[2]));
       for (int iz = ilo[2]; iz <= ihi[2]; iz++)
         for (int iy = ilo[1]; iy <= ihi[1]; iy++)
@@ -935,9 +943,8 @@ double tool_signed_distance(const TriBins &bins, const double *x, double r0)
   const int nd = g.nvert == 3 ? 3 : 2;
   double diag2 = 0.0;
   for (int k = 0; k < nd; k++) {
-    const double hi = g.lo[k] + g.n[k] * g.size;
-    if (x[k] < g.lo[k] || x[k] > hi) return HUGE_VAL;    // outside the box of the tool
-    diag2 += sq(hi - g.lo[k]);
+    if (x[k] < bins.box_lo[k] || x[k] > bins.box_hi[k]) return HUGE_VAL;    // outside the box of the tool
+    diag2 += sq(bins.box_hi[k] - bins.box_lo[k]);
   }
   const double xx[3] = {x[0], x[1], nd == 3 ? x[2] : 0.0};
   for (double r = r0;; r *= 2.0) {

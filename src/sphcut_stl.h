@@ -158,8 +158,11 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim,
 
 /* ----------------------------------------------------------------------
    contact bins (host build, see TriBinView in sphcut_contact.h).  bin_size
-   is typically the contact cutoff (>= the query radius keeps a query at
-   <= 8 bins); it is enlarged when the grid would exceed max_bins.  The
+   is typically the contact cutoff: each bin lists the elements within the
+   bin size (halo) of it, and the grid holds one bin more on each side of
+   the elements' box, so that a query of radius <= bin_size reads the one
+   bin holding the point; the bins are enlarged (halo with them) when the
+   grid would exceed max_bins.  The
    elements are copied (segment z set to 0), and the pseudo-normals of
    their features are computed (pseudo_normals).  view() points into this
    object: rebuild the view after moving or copying it.
@@ -173,6 +176,8 @@ struct TriBins {
   double lo[3] = {0.0, 0.0, 0.0};
   double size = 0.0;
   int n[3] = {0, 0, 0};
+  double halo = 0.0;                                    // TriBinView::halo
+  double box_lo[3] = {0.0, 0.0, 0.0}, box_hi[3] = {0.0, 0.0, 0.0};    // the elements' bounding box
   TriBinView view() const;
 };
 

@@ -979,6 +979,7 @@ void check_bins(const std::vector<double> &elem, int nvert, double bin_size, uns
   const TriBinView g = bins.view();
   const int ne = (int) (elem.size() / (3 * nvert));
   ASSERT_EQ(g.nelem, ne);
+  EXPECT_EQ(g.halo, g.size);    // each bin lists the elements within one bin size of it
   double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
   for (size_t i = 0; i < elem.size() / 3; i++)
     for (int k = 0; k < 3; k++) {
@@ -1004,7 +1005,9 @@ void check_bins(const std::vector<double> &elem, int nvert, double bin_size, uns
             2.0 * bin_size * (u(rng) - 0.5);
     }
     if (nvert == 2) x[2] = 0.0;
-    const double radius = bin_size * (ip % 3 == 0 ? 2.5 : 0.6) * u(rng);
+    // radii up to the halo (one bin read), the halo itself (the contact's query) and beyond (the bins
+    // the radius covers)
+    const double radius = ip % 5 == 1 ? bins.halo : bin_size * (ip % 3 == 0 ? 2.5 : 0.6) * u(rng);
     const int nc = tri_bin_query(g, x, radius, cand.data(), MAXC);
     ASSERT_LE(nc, MAXC);
     std::vector<int> got(cand.begin(), cand.begin() + nc), want;
