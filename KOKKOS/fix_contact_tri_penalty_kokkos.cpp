@@ -54,6 +54,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -340,6 +342,15 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   if (toolbit) sphcut::kokkos_full_list<DeviceType>(neighbor);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix contact/tri-penalty/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  integ = dynamic_cast<FixSPHJCThermalKokkos<DeviceType> *>(fix);
+  // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own, for the A/B
+  // (bench/gpu/cutting.sh envab)
+  const char *e = std::getenv("SPHCUT_GATHER_FOLD");
+  if (e && *e) {
+    const std::string v(e);
+    if (v != "0" && v != "1") error->all(FLERR, "Fix contact/tri-penalty/kk: SPHCUT_GATHER_FOLD={} is not 0 or 1", v);
+    fold_gather = v == "1";
+  }
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
   upload();
@@ -597,42 +608,36 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
 }
 
 /* the tool particles take the tool's share of the friction heat of the contact particles
-   around them, kernel weighted (the CPU fix scatters it from the contact particle's side) */
+   around them, kernel weighted (sphcut::ToolHeatGather; the CPU fix scatters it from the contact
+   particle's side): in fix sph/jc-thermal/kk's corrector kernel of this step when it takes it
+   (not at a setup; SPHCUT_GATHER_FOLD=0 never hands it over), else here, a kernel over the tool
+   particles next to non-tool ones (the others have no contact particle around them), each over
+   its non-tool neighbours in the list's order */
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
   if (nxtool == 0) return;    // no tool particle has a non-tool neighbour (the tool is away)
   k_qtw.template sync<DeviceType>();
-  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
-  auto qtw = k_qtw.template view<DeviceType>();
-  auto mat = d_mat;
-  auto hij = d_hij;
-  const int tb = toolbit, hb = heat->groupbit, use_rmass = atom->rmass_flag, ntp = atom->ntypes + 1;
-  const int kern = model->kernel(), dim = domain->dimension;
-  const double acc = update->setupflag ? 0.0 : update->dt;
-  auto qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
-  auto xoff = d_xoff, xnb = d_xnb, xtool = d_xtool;
-  // the tool particles next to non-tool ones (the others have no contact particle around them),
-  // each over its non-tool neighbours in the list's order (the others hold no heat: qtw 0)
-  Kokkos::parallel_for("sphcut:contact:tool_heat_gather",
-      sphcut::range<DeviceType>(0, nxtool),
-      KOKKOS_LAMBDA(const int t) {
-        const int j = xtool(t);
-        if (!(av.mask(j) & tb)) return;
-        double p = 0.0;
-        for (int c = xoff(j); c < xoff(j + 1); c++) {
-          const int i = xnb(c);
-          if (!(qtw(i, 0) > 0.0)) continue;
-          double r2 = 0.0;
-          for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - av.x(j, k)) * (av.x(i, k) - av.x(j, k));
-          const double w = sphcut::tool_heat_weight(kern, dim, r2, hij(av.type(i) * ntp + av.type(j)));
-          if (w > 0.0) p += qtw(i, 0) * w;
-        }
-        if (!(p > 0.0) || !(av.mask(j) & hb)) return;
-        const double m = use_rmass ? av.rmass(j) : av.mass(av.type(j));
-        if (!sphcut::add_source_heat(av.st(j, FixSPHJCThermal::DTEMP), p, m, mat(av.type(j)).cp)) return;
-        if (acc > 0.0) Kokkos::atomic_add(&qsrc(), p * acc);
-      });
+  sphcut::ToolHeatGather<DeviceType> g;
+  g.active = 1;
+  g.tb = toolbit;
+  g.hb = heat->groupbit;
+  g.kern = model->kernel();
+  g.dim = domain->dimension;
+  g.ntp = atom->ntypes + 1;
+  g.use_rmass = atom->rmass_flag;
+  g.acc = update->setupflag ? 0.0 : update->dt;
+  g.av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
+  g.qtw = k_qtw.template view<DeviceType>();
+  g.xoff = d_xoff;
+  g.xnb = d_xnb;
+  g.mat = d_mat;
+  g.hij = d_hij;
+  g.qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
   fixkk->k_state.template modify<DeviceType>();
+  if (fold_gather && integ && integ->take_tool_heat_gather(this, g)) return;
+  auto xtool = d_xtool;
+  Kokkos::parallel_for("sphcut:contact:tool_heat_gather", sphcut::range<DeviceType>(0, nxtool),
+                       KOKKOS_LAMBDA(const int t) { g(xtool(t)); });
 }
 
 /* ---------------------------------------------------------------------- */

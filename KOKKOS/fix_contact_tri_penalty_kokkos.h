@@ -34,6 +34,7 @@ FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
 namespace LAMMPS_NS {
 
 class FixSPHJCThermalKokkosBase;
+template <class DeviceType> class FixSPHJCThermalKokkos;
 
 // the mask bits that sort particles for the contact's kernels: the fix's group, its tool particles
 // (tool_particles), fix sph/jc-thermal's tool and clamp roles, the heat fix's group (0: none)
@@ -76,6 +77,8 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
  public:    // (CUDA: a function that launches a device lambda must be public)
   typedef typename DeviceType::memory_space mem;
   FixSPHJCThermalKokkosBase *fixkk;
+  FixSPHJCThermalKokkos<DeviceType> *integ = nullptr;    // fixkk on this device type (the gather's hand-off)
+  int fold_gather = 1;                           // SPHCUT_GATHER_FOLD (1, or 0: the gather's own kernel)
   Kokkos::View<double *, mem> d_elem, d_sphere, d_pnorm;    // d_pnorm: feature pseudo-normals
   Kokkos::View<int *, mem> d_start, d_index;
   sphcut::TriBinView d_view;                      // points at the device copies

@@ -133,8 +133,12 @@ template <class DeviceType> struct SecondHalf {
     if (nd) qacc(0) += r[QDIR];
     if (want_lim) slot(0) = r[HEAT_DT];
   }
+  // fix contact/tri-penalty/kk's tool-heat gather of this step (take_tool_heat_gather), if any
+  sphcut::ToolHeatGather<DeviceType> gather;
+
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
+    if (gather.active) gather(i);    // a tool particle's share of the friction heat, before its corrector
     if (!(mask(i) & groupbit)) return;
     const int t = type(i);
     const int role = sphcut::role_from_mask(mask(i), toolbit, clampbit);
@@ -570,6 +574,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   // into the device views (no fence): final writes the sums into k_dtlim, the heat style's slot
   // and k_qdir; end_of_step reads k_dtlim with the styles' slots
   k.result = k_dtlim.template view<DeviceType>();
+  if (gather_step == update->ntimestep) k.gather = gather;
+  gather_step = -1;    // used once (a reset_timestep cannot bring it back)
   if (d_second.extent(0) != 4) d_second = Kokkos::View<double *, typename DeviceType::memory_space>("sph:second", 4);
   Kokkos::parallel_reduce("sphcut:sph:final_integrate", sphcut::range<DeviceType>(0, atom->nlocal), k, d_second);
   k_dtlim.template modify<DeviceType>();
@@ -583,6 +589,25 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   }
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
+}
+
+/* fix contact/tri-penalty/kk's tool-heat gather (sphcut_tool_heat_kokkos.h) of this step, applied by
+   final_integrate's kernel to each particle before its corrector instead of in a kernel of the
+   contact fix: its heat joins DTEMP before the held rate, in the order the separate kernel gave.
+   The contact fix hands it over in post_force (after its contact kernel and the ghosts' qtw), which
+   LAMMPS calls before final_integrate in every step; not at a setup (no final_integrate follows).
+   One gather a step: false when another style's holds this step (that one runs its own kernel). */
+template <class DeviceType>
+bool FixSPHJCThermalKokkos<DeviceType>::take_tool_heat_gather(const void *owner,
+                                                              const sphcut::ToolHeatGather<DeviceType> &g)
+{
+  if (update->setupflag) return false;
+  if (gather_step == update->ntimestep && gather_owner != owner) return false;
+  gather = g;
+  gather.active = 1;
+  gather_step = update->ntimestep;
+  gather_owner = owner;
+  return true;
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step()

@@ -23,6 +23,7 @@ FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
 #include "sphcut_kokkos.h"
 #include "sphcut_material.h"
 #include "sphcut_migrate_kokkos.h"
+#include "sphcut_tool_heat_kokkos.h"
 
 #include <utility>
 #include <vector>
@@ -129,8 +130,13 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void remap_state();
   void report_migration();
   void *extract(const char *, int &) override;
+  // fix contact/tri-penalty/kk's tool-heat gather of this step into final_integrate's kernel (.cpp)
+  bool take_tool_heat_gather(const void *owner, const sphcut::ToolHeatGather<DeviceType> &g);
 
  protected:
+  sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
+  bigint gather_step = -1;
+  const void *gather_owner = nullptr;
   sphcut::StagedColumns<DeviceType> stage_state;    // the force state's rows on the classic forward communication
   bigint rates_zeroed_step = -1;    // step whose initial_integrate zeroed the rates (pre_force skips its kernel)
   int remap;                   // 1: state rows follow the atoms by tag during a run, 0: grow callback

@@ -739,47 +739,74 @@ TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
 
 // the launches of fix contact/tri-penalty/kk in the 2D cut with thermal tool particles: per
 // ordinary step the contact reduction and, with the tool beside the workpiece (xstart 0.6), the
-// tool particles' heat gather (none while the tool is away: xstart 3, the first 100 steps); the
+// tool particles' heat gather, which fix sph/jc-thermal/kk's corrector kernel applies (no kernel
+// of the contact fix's own; with SPHCUT_GATHER_FOLD=0 one a step: the same heat into the tool
+// particles and the budget); none while the tool is away (xstart 3, the first 100 steps).  The
 // cross neighbours they walk are built at each setup and once per build of the neighbour lists
 // in the steps (ncalls counts these, not the setup's); the accumulators that an output step's
 // fetch read are zeroed by the next contact reduction, not by a fill (peratom_every 10)
 TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
 {
+  double budget[2][2] = {{0.0, 0.0}, {0.0, 0.0}};    // heat by sources, thermal energy: folded, not
   for (const int near : {1, 0}) {
-    const int steps = near ? 600 : 100;
-    Lammps l(MPI_COMM_WORLD, KK_FULL);
-    for (auto &v : {std::string("xstart index ") + (near ? "0.6" : "3"), "steps index " + std::to_string(steps),
-                    std::string("ny index 11"), std::string("dumpevery index 0"), std::string("thermoevery index 100")})
-      l.cmd("variable " + v);
-    launches.clear();
-    scans.clear();
-    sums_fills = 0;
-    max_builds = 0;
-    {
-      CountLaunches count(l.lmp);
-      l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
-    }
-    const char *what = near ? "tool near" : "tool away";
-    for (auto &n : launches)
-      if (n.first.rfind("sphcut:contact:", 0) == 0)
-        std::printf("[ launches ] %s: %-34s %3d in %d steps\n", what, n.first.c_str(), n.second, steps);
-    std::printf("[ launches ] %s: sphcut:contact:cross_build %d in the steps for %ld list builds, %d in the 2 "
-                "setups; %d fills of the sums\n", what, scans["sphcut:contact:cross_build"], max_builds,
-                scans["setup sphcut:contact:cross_build"], sums_fills);
-    EXPECT_EQ(launches["sphcut:contact:post_force"], steps) << what;    // the counting works
-    // (on several ranks: on those with tool particles beside the workpiece)
-    int gather = launches["sphcut:contact:tool_heat_gather"], gmax = 0;
-    MPI_Allreduce(&gather, &gmax, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-    EXPECT_TRUE(gather == 0 || gather == steps) << what;
-    EXPECT_EQ(gmax, near ? steps : 0) << what;
-    EXPECT_EQ(scans["sphcut:contact:cross_build"], max_builds) << what;
-    EXPECT_EQ(scans["setup sphcut:contact:cross_build"], 2) << what;    // run 0 and the run
-    EXPECT_EQ(sums_fills, 0) << what;
-    if (near) {
-      EXPECT_GT(max_builds, 0);                // the lists were built during the run
-      EXPECT_GT(l.equal("f_cut[7]"), 0.0);    // friction heat went into the tool particles
+    for (const int fold : {1, 0}) {
+      if (!near && !fold) continue;
+      const int steps = near ? 600 : 100;
+      setenv("SPHCUT_GATHER_FOLD", fold ? "1" : "0", 1);
+      Lammps l(MPI_COMM_WORLD, KK_FULL);
+      for (auto &v : {std::string("xstart index ") + (near ? "0.6" : "3"), "steps index " + std::to_string(steps),
+                      std::string("ny index 11"), std::string("dumpevery index 0"), std::string("thermoevery index 100")})
+        l.cmd("variable " + v);
+      launches.clear();
+      scans.clear();
+      sums_fills = 0;
+      max_builds = 0;
+      {
+        CountLaunches count(l.lmp);
+        l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+      }
+      unsetenv("SPHCUT_GATHER_FOLD");
+      const std::string what = std::string(near ? "tool near" : "tool away") + (fold ? "" : ", own gather kernel");
+      for (auto &n : launches)
+        if (n.first.rfind("sphcut:contact:", 0) == 0)
+          std::printf("[ launches ] %s: %-34s %3d in %d steps\n", what.c_str(), n.first.c_str(), n.second, steps);
+      std::printf("[ launches ] %s: sphcut:contact:cross_build %d in the steps for %ld list builds, %d in the 2 "
+                  "setups; %d fills of the sums\n", what.c_str(), scans["sphcut:contact:cross_build"], max_builds,
+                  scans["setup sphcut:contact:cross_build"], sums_fills);
+      EXPECT_EQ(launches["sphcut:contact:post_force"], steps) << what;    // the counting works
+      // (on several ranks: on those with tool particles beside the workpiece)
+      int gather = launches["sphcut:contact:tool_heat_gather"], gmax = 0;
+      MPI_Allreduce(&gather, &gmax, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+      EXPECT_TRUE(gather == 0 || gather == steps) << what;
+      EXPECT_EQ(gmax, near && !fold ? steps : 0) << what;
+      EXPECT_EQ(scans["sphcut:contact:cross_build"], max_builds) << what;
+      EXPECT_EQ(scans["setup sphcut:contact:cross_build"], 2) << what;    // run 0 and the run
+      EXPECT_EQ(sums_fills, 0) << what;
+      if (near) {
+        EXPECT_GT(max_builds, 0);                // the lists were built during the run
+        EXPECT_GT(l.equal("f_cut[7]"), 0.0);    // friction heat went into the tool particles
+        budget[fold][0] = l.equal("f_heat[4]");
+        budget[fold][1] = l.equal("f_heat[5]");
+      }
     }
   }
+  // the gather in the corrector's kernel gives the heat of its own kernel (the sources' sum by
+  // atomics: to round-off)
+  EXPECT_GT(budget[1][0], 0.0);
+  EXPECT_NEAR(budget[1][0], budget[0][0], 1e-12 * fabs(budget[0][0]));
+  EXPECT_NEAR(budget[1][1], budget[0][1], 1e-12 * fabs(budget[0][1]));
+}
+
+// a bad SPHCUT_GATHER_FOLD is refused by name
+TEST(KokkosThermal, GatherFoldSettingChecked)
+{
+  setenv("SPHCUT_GATHER_FOLD", "2", 1);
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  for (auto &v : {"xstart index 3", "steps index 10", "ny index 11", "dumpevery index 0"})
+    l.cmd(std::string("variable ") + v);
+  EXPECT_TRUE(l.error_contains("include " + std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting",
+                               "SPHCUT_GATHER_FOLD=2 is not 0 or 1"));
+  unsetenv("SPHCUT_GATHER_FOLD");
 }
 
 // the cut split by a restart across the styles: 8000 steps with the CPU styles, write_restart,
