@@ -343,14 +343,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix contact/tri-penalty/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   integ = dynamic_cast<FixSPHJCThermalKokkos<DeviceType> *>(fix);
-  // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own, for the A/B
-  // (bench/gpu/cutting.sh envab)
-  const char *e = std::getenv("SPHCUT_GATHER_FOLD");
-  if (e && *e) {
-    const std::string v(e);
-    if (v != "0" && v != "1") error->all(FLERR, "Fix contact/tri-penalty/kk: SPHCUT_GATHER_FOLD={} is not 0 or 1", v);
-    fold_gather = v == "1";
-  }
+  // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own (the A/B)
+  fold_gather = sphcut::env_switch(lmp, "SPHCUT_GATHER_FOLD", "Fix contact/tri-penalty/kk", 1);
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
   upload();

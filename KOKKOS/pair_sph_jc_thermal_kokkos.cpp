@@ -155,12 +155,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
     if (lanes_env < 1 || lanes_env > 32 || (lanes_env & (lanes_env - 1)))
       error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_LANES={} is not 1, 2, 4, 8, 16 or 32", v);
   }
-  e = std::getenv("SPHCUT_PAIR_BOUNDS");
-  if (e && *e) {
-    const std::string v(e);
-    if (v != "0" && v != "1") error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_BOUNDS={} is not 0 or 1", v);
-    bounded = v == "1";
-  }
+  bounded = sphcut::env_switch(lmp, "SPHCUT_PAIR_BOUNDS", "Pair sph/jc-thermal/kk", 1);
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "

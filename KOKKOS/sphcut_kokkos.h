@@ -16,6 +16,7 @@
 #include "neigh_list_kokkos.h"
 
 #include <cstdint>
+#include <cstdlib>
 #include <mpi.h>
 #include <string>
 #include <type_traits>
@@ -120,6 +121,17 @@ template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
       bounds;
   return Kokkos::Experimental::require(Kokkos::RangePolicy<DeviceType, bounds>(begin, end),
                                        Kokkos::Experimental::WorkItemProperty::HintLightWeight);
+}
+
+// a 0/1 switch of the environment for the benchmarks' A/B runs (bench/gpu/cutting.sh envab): def
+// when unset or empty, an error naming the variable and its value for anything but 0 or 1
+inline int env_switch(LAMMPS_NS::LAMMPS *lmp, const char *name, const char *who, int def)
+{
+  const char *e = std::getenv(name);
+  if (!e || !*e) return def;
+  const std::string v(e);
+  if (v != "0" && v != "1") lmp->error->all(FLERR, "{}: {}={} is not 0 or 1", who, name, v);
+  return v == "1";
 }
 
 // forward communication of the per-atom columns col0 .. col0 + ncol - 1 of a DualView, on the

@@ -797,8 +797,9 @@ TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
   EXPECT_NEAR(budget[1][1], budget[0][1], 1e-12 * fabs(budget[0][1]));
 }
 
-// a bad SPHCUT_GATHER_FOLD is refused by name
-TEST(KokkosThermal, GatherFoldSettingChecked)
+// the benchmarks' switch of the contact fix (SPHCUT_GATHER_FOLD: the tool-heat gather's own kernel):
+// anything but 0 or 1 is refused by name
+TEST(KokkosThermal, GatherFoldSwitchChecked)
 {
   setenv("SPHCUT_GATHER_FOLD", "2", 1);
   Lammps l(MPI_COMM_WORLD, KK_FULL);
