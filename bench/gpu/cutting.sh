@@ -46,10 +46,8 @@
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
 #            steps (particle-steps/s); AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
 #            (kernel times)
-#   ncu2d    Nsight Compute on NCU_COUNT (6) launches of the 2D step's kernels in contact (NCU_KERNELS, a
-#            regex on the demangled name; default the per-step ones) after NCU_SKIP (3000) such launches,
-#            at PROF_NY (41) across: duration, launch, occupancy and the warps' stall reasons
-#   envab    one binary under ENVAB_SETS environment settings (;-separated, e.g. SPHCUT_PAIR_BOUNDS=0), in
+#   envab    one binary under ENVAB_SETS environment settings or -var settings of the input (;-separated,
+#            e.g. SPHCUT_PAIR_BOUNDS=0 or -var balance shift), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
@@ -612,36 +610,18 @@ envab() {
     for k in "${!sets[@]}"; do
       set=${sets[$k]}
       say "  envab r$r [$set]"
+      # a set of -var settings goes to lmp, any other set into the environment
+      local env=ENVAB_NONE=1 args=""
+      if [[ $set == -* ]]; then args=$set; else env=$set; fi
       for ny in ${ENVAB_NY-41 81}; do
-        (export $set; prof_run ev${k}n${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV)
+        (export $env; prof_run ev${k}n${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV $args)
       done
       for nz in ${ENVAB_NZ-232}; do
-        (export $set; slab_run ev${k}z${nz}r$r $nz)
+        (export $env; slab_run ev${k}z${nz}r$r $nz $args)
         say "    3D nz $nz: $(slab_rate log.ev${k}z${nz}r$r)"
       done
     done
   done
-  cd "$ROOT"
-}
-
-# Nsight Compute on a few launches of the 2D step's kernels (ncu serialises and replays only the
-# selected launches; the others run at their speed); --clock-control none leaves the clocks alone
-ncu2d() {
-  local ncu ny=${PROF_NY:-41}
-  ncu=$(command -v ncu || ls /opt/nvidia/nsight-compute/*/ncu 2>/dev/null | head -1)
-  [ -n "$ncu" ] || { say "ncu2d: no ncu"; return 0; }
-  cd $W
-  timeout ${NCU_TIMEOUT:-240} "$ncu" --clock-control none --kernel-name-base demangled \
-    --kernel-name regex:"${NCU_KERNELS:-initial_integrate|SecondHalf|ContactKernel|neigh_pass|stress_pass|tool_heat}" \
-    --launch-skip ${NCU_SKIP:-3000} --launch-count ${NCU_COUNT:-6} \
-    --section SpeedOfLight --section Occupancy --section LaunchStats --section WarpStateStats \
-    "$BIN" $GPUK -in "$EX2" -var xstart 1 -var ny $ny -var steps ${NCU_STEPS:-1000} -var thermoevery 1000 \
-    -var dumpevery 0 $NEV -log none > ncu2d-$ny.txt 2>&1 || say "ncu2d: ncu ended with an error (ncu2d-$ny.txt)"
-  cp ncu2d-$ny.txt "$OUT/" 2>/dev/null
-  say "ncu2d ny $ny:"
-  grep -E "^  [a-zA-Z_(].*\(|Duration|Registers Per Thread|Block Size|Grid Size|Achieved Occupancy|Theoretical Occupancy|Warp Cycles Per Issued|Executed Ipc A|Compute \(SM\) Throughput|Memory Throughput|stalled" \
-    ncu2d-$ny.txt | sed -E 's/^  .*(initial_integrate|SecondHalf|ContactKernel|neigh_pass_team|neigh_pass|stress_pass|tool_heat_gather|ToolHeatGather).*\) \(([0-9, ]+)\)x\(([0-9, ]+)\).*/  == \1: grid (\2) x block (\3)/' \
-    | cut -c1-240 | head -${NCU_LINES:-120} | tee -a "$SUM"
   cd "$ROOT"
 }
 
