@@ -48,6 +48,7 @@
 ------------------------------------------------------------------------- */
 
 #include "fix_sph_jc_thermal_kokkos.h"
+#include "pair_sph_jc_thermal_kokkos.h"
 
 #include "atom_kokkos.h"
 #include "atom_masks.h"
@@ -277,6 +278,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   FixSPHJCThermal::init();
   if (!force->pair_match("^sph/jc-thermal", 0)->kokkosable)
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
+  pairkk = dynamic_cast<PairSPHJCThermalKokkos<DeviceType> *>(force->pair_match("^sph/jc-thermal", 0));
+  prepack = pairkk && sphcut::env_switch(lmp, "SPHCUT_PAIR_PREPACK", "Fix sph/jc-thermal/kk", 1) && prepack_allowed();
   // the other sphcut styles (those that attach to this fix) read and write the state: under /kk
   // only their /kk variants do that on the device (a CPU variant would read a stale host copy)
   for (int i = 0; i < modify->nfix; i++)
@@ -455,7 +458,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   const int hgb = heat_rules.gb, nd = (int) heat_rules.bits.size();
   // the rates are zeroed here, after the predictor has saved them (DRHO_O, ...), instead of in a
   // kernel of their own at pre_force: one launch fewer on steps without reneighbouring (pre_force
-  // zeroes them again where atoms may have moved, been exchanged or created)
+  // zeroes them again where atoms may have moved, been exchanged or created).  The pair's rows of
+  // the particles are packed here too, from what this kernel just wrote (prepack_allowed): the
+  // pair's stress pass then packs only the ghosts
+  sphcut::RowPacker<DeviceType> packer;
+  if (prepack) packer = pairkk->packer_for_fix();
   Kokkos::parallel_for("sphcut:sph:initial_integrate",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (mask(i) & gb) {
@@ -473,10 +480,12 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
         }
         sphcut::zero_rates(&st(i, 0));
         if (nd) sphcut::hold_predicted_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, &st(i, 0));
+        if (packer.active) packer(i);
       });
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, datamask_modify);
   rates_zeroed_step = update->ntimestep;
+  if (packer.active) pairkk->rows_prepacked(update->ntimestep);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -589,6 +598,27 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   }
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
+}
+
+/* the pair's rows of the local particles may be packed in initial_integrate when nothing changes
+   what they hold (positions, VEST, RHO_F, TEMP_F, SF, mask, type, mass) between that kernel and
+   the pair: no fix of another kind has initial_integrate after this one, post_integrate or
+   pre_force (the sphcut styles attached to this fix have none that touches those; a step with
+   reneighbouring, where the atoms may move in the arrays, the pair packs in full anyway) */
+template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::prepack_allowed() const
+{
+  int self = -1;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (modify->fix[i] == this) {
+      self = i;
+      continue;
+    }
+    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) continue;
+    const int m = modify->fmask[i];
+    if ((m & FixConst::POST_INTEGRATE) || (m & FixConst::PRE_FORCE) || ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
+      return false;
+  }
+  return true;
 }
 
 /* fix contact/tri-penalty/kk's tool-heat gather (sphcut_tool_heat_kokkos.h) of this step, applied by

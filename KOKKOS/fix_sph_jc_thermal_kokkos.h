@@ -30,6 +30,8 @@ FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
 
 namespace LAMMPS_NS {
 
+template <class DeviceType> class PairSPHJCThermalKokkos;
+
 // what the /kk pair needs of the fix, whatever device type the fix was built for
 class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
  public:
@@ -134,6 +136,9 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   bool take_tool_heat_gather(const void *owner, const sphcut::ToolHeatGather<DeviceType> &g);
 
  protected:
+  PairSPHJCThermalKokkos<DeviceType> *pairkk = nullptr;    // the pair on this device type (init)
+  int prepack = 0;    // its local rows packed in initial_integrate (init: SPHCUT_PAIR_PREPACK, prepack_allowed)
+  bool prepack_allowed() const;
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
   bigint gather_step = -1;
   const void *gather_owner = nullptr;

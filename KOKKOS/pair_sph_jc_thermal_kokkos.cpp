@@ -17,6 +17,7 @@
 #include "neigh_request.h"
 #include "neighbor.h"
 #include "pair_kokkos.h"
+#include "update.h"
 
 #include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
@@ -198,9 +199,14 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int dim = domain->dimension;
   const int any_as = mdl.any_artificial_stress();
   const int pk_cols = sphcut::pack_width(any_as);
+  // the local rows packed by the fix this step (packer_for_fix) stand unless the lists were rebuilt
+  // since (the atoms may have moved in the arrays) or the rows are reallocated
+  int first = prepacked_step == update->ntimestep && !update->setupflag && neighbor->ago != 0 ? atom->nlocal : 0;
+  prepacked_step = -1;
   if (atom->nmax > nmax_kk || (int) d_pack.extent(1) != pk_cols) {
     d_pack = typename AT::t_double_2d("pair:pack", atom->nmax, pk_cols);
     sphcut::require_aligned16(lmp, d_pack.data(), "Pair sph/jc-thermal/kk: the packed rows");
+    first = 0;
   }
   if (atom->nmax > nmax_kk) {
     nmax_kk = atom->nmax;
@@ -214,7 +220,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     k_lgrad = DAT::tdual_double_2d("pair:lgrad", nmax_kk, 9);
   }
   fixkk->k_state.template sync<DeviceType>();
-  stress_pass(nall, any_as);
+  stress_pass(first, nall, any_as);
   const int inum = list->inum;
   if (neighflag == FULL) {
     const int lanes = team_lanes(inum);
@@ -280,24 +286,39 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
    Cauchy and artificial stress of the force state, local and ghost
 ------------------------------------------------------------------------- */
 
-template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass(int nall, int any_as)
+// what packs a row (the stress pass's body) with this step's views
+template <class DeviceType> sphcut::RowPacker<DeviceType> PairSPHJCThermalKokkos<DeviceType>::row_packer(int any_as)
 {
-  const auto av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
-  auto pk = d_pack;
-  auto mt = d_mat;
-  const int gb = fix->solidbit, tb = fix->toolbit, cb = fix->clampbit, dim = domain->dimension;
-  const int use_rmass = atom->rmass_flag;
-  using SL = StateLayout;
-  Kokkos::parallel_for("sphcut:pair:stress_pass",
-      sphcut::range<DeviceType>(0, nall), KOKKOS_LAMBDA(const int i) {
-        const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
-        if (!(av.mask(i) & gb) || sphcut::role_from_mask(av.mask(i), tb, cb) == SL::TOOL) {
-          sphcut::pack_outside(xi, av.type(i), &pk(i, 0));    // not in the SPH solid: its neighbours skip it
-          return;
-        }
-        sphcut::pack_row(mt(av.type(i)), dim, any_as, xi, av.type(i), &av.st(i, 0),
-                         use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
-      });
+  sphcut::RowPacker<DeviceType> p;
+  p.pk = d_pack;
+  p.mt = d_mat;
+  p.av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
+  p.gb = fix->solidbit;
+  p.tb = fix->toolbit;
+  p.cb = fix->clampbit;
+  p.dim = domain->dimension;
+  p.any_as = any_as;
+  p.use_rmass = atom->rmass_flag;
+  return p;
+}
+
+template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass(int first, int nall, int any_as)
+{
+  if (first >= nall) return;    // (no ghosts, the local rows packed by the fix)
+  const sphcut::RowPacker<DeviceType> p = row_packer(any_as);
+  Kokkos::parallel_for("sphcut:pair:stress_pass", sphcut::range<DeviceType>(first, nall),
+                       KOKKOS_LAMBDA(const int i) { p(i); });
+}
+
+// the packer fix sph/jc-thermal/kk runs in its first-half kernel (active 0 where this compute
+// would reallocate the rows or has none yet)
+template <class DeviceType> sphcut::RowPacker<DeviceType> PairSPHJCThermalKokkos<DeviceType>::packer_for_fix()
+{
+  const int any_as = mdl.any_artificial_stress();
+  sphcut::RowPacker<DeviceType> p = row_packer(any_as);
+  p.active = tables_ready && !update->setupflag && atom->nmax <= nmax_kk && (int) d_pack.extent(0) >= atom->nlocal &&
+      (int) d_pack.extent(1) == sphcut::pack_width(any_as);
+  return p;
 }
 
 /* ----------------------------------------------------------------------

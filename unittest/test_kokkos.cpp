@@ -797,6 +797,50 @@ TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
   EXPECT_NEAR(budget[1][1], budget[0][1], 1e-12 * fabs(budget[0][1]));
 }
 
+// the pair's rows of the local particles are packed in fix sph/jc-thermal/kk's first-half kernel:
+// in the 2D cut on one rank (no ghost atoms) the pair's stress pass runs only at the steps where
+// the lists were rebuilt (the atoms may have moved in the arrays); on several it packs the ghosts
+// every step.  The cut is the one of the pair packing every row (SPHCUT_PAIR_PREPACK=0)
+TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
+{
+  const int steps = 600;
+  double fc[2], ft[2], eint[2];
+  int packs[2];
+  long builds[2];
+  for (const int pre : {1, 0}) {
+    setenv("SPHCUT_PAIR_PREPACK", pre ? "1" : "0", 1);
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    for (auto &v : {std::string("xstart index 0.6"), "steps index " + std::to_string(steps), std::string("ny index 11"),
+                    std::string("dumpevery index 0"), std::string("thermoevery index 100")})
+      l.cmd("variable " + v);
+    launches.clear();
+    max_builds = 0;
+    {
+      CountLaunches count(l.lmp);
+      l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+    }
+    unsetenv("SPHCUT_PAIR_PREPACK");
+    packs[pre] = launches["sphcut:pair:stress_pass"];
+    builds[pre] = max_builds;
+    fc[pre] = l.equal("v_Fc");
+    ft[pre] = l.equal("v_Ft");
+    eint[pre] = l.equal("f_sph[2]");
+    std::printf("[ prepack  ] SPHCUT_PAIR_PREPACK=%d: %d stress passes in %d steps (%ld list builds); Fc %.15g, Ft %.15g\n",
+                pre, packs[pre], steps, builds[pre], fc[pre], ft[pre]);
+  }
+  int nprocs;
+  MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
+  EXPECT_EQ(packs[0], steps);    // the counting works: one a step
+  EXPECT_GT(builds[1], 0);
+  if (nprocs == 1) EXPECT_EQ(packs[1], (int) builds[1]);    // only where the lists were rebuilt
+  EXPECT_GT(fc[1], 20.0);                  // in contact
+  // (equal to the bit here; on 2 threads two runs of one input may differ by 1e-10 in Fc: the
+  // contact's records and heat sums are atomics)
+  EXPECT_NEAR(fc[1], fc[0], 3e-10 * fabs(fc[0]));
+  EXPECT_NEAR(ft[1], ft[0], 3e-10 * fabs(ft[0]));
+  EXPECT_NEAR(eint[1], eint[0], 3e-10 * fabs(eint[0]));
+}
+
 // the benchmarks' switch of the contact fix (SPHCUT_GATHER_FOLD: the tool-heat gather's own kernel):
 // anything but 0 or 1 is refused by name
 TEST(KokkosThermal, GatherFoldSwitchChecked)
