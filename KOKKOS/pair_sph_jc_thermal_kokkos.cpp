@@ -203,7 +203,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   // since (the atoms may have moved in the arrays) or the rows are reallocated
   int first = prepacked_step == update->ntimestep && !update->setupflag && neighbor->ago != 0 ? atom->nlocal : 0;
   prepacked_step = -1;
-  if (atom->nmax > nmax_kk || (int) d_pack.extent(1) != pk_cols) {
+  if (!rows_fit(pk_cols)) {
     d_pack = typename AT::t_double_2d("pair:pack", atom->nmax, pk_cols);
     sphcut::require_aligned16(lmp, d_pack.data(), "Pair sph/jc-thermal/kk: the packed rows");
     first = 0;
@@ -316,9 +316,14 @@ template <class DeviceType> sphcut::RowPacker<DeviceType> PairSPHJCThermalKokkos
 {
   const int any_as = mdl.any_artificial_stress();
   sphcut::RowPacker<DeviceType> p = row_packer(any_as);
-  p.active = tables_ready && !update->setupflag && atom->nmax <= nmax_kk && (int) d_pack.extent(0) >= atom->nlocal &&
-      (int) d_pack.extent(1) == sphcut::pack_width(any_as);
+  p.active = tables_ready && !update->setupflag && rows_fit(sphcut::pack_width(any_as));
   return p;
+}
+
+// whether the packed rows hold every atom at this width (compute reallocates them where not)
+template <class DeviceType> bool PairSPHJCThermalKokkos<DeviceType>::rows_fit(int pk_cols) const
+{
+  return atom->nmax <= nmax_kk && (int) d_pack.extent(0) >= atom->nmax && (int) d_pack.extent(1) == pk_cols;
 }
 
 /* ----------------------------------------------------------------------

@@ -94,6 +94,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // SPHCUT_PAIR_PREPACK=0 (environment, the fix reads it): every row here, for the A/B.
   sphcut::RowPacker<DeviceType> packer_for_fix();
   void rows_prepacked(bigint step) { prepacked_step = step; }
+  bool rows_fit(int pk_cols) const;
   template <int DIM, int HALF, int NEWTON, int MINB = 0> void neigh_pass(int inum, int any_as);
   template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
   template <int DIM> void hourglass_pass(int inum);
