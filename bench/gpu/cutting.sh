@@ -143,6 +143,11 @@ segment_start() {
   [ "$wall" -ge 0 ]
 }
 
+# the loop time and steps of all segments so far (their logs log.seg*)
+segment_total() {
+  say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
+}
+
 # the segment's files for the next call: forces.dat, the logs and the restart file into $OUT/$1/
 segment_save() {
   mkdir -p "$OUT/$1" && cp forces.dat log.seg* "$OUT/$1/" && { [ ! -f restart.cutting ] || cp restart.cutting "$OUT/$1/"; }
@@ -163,7 +168,7 @@ cut2d() {
     -log log.seg$seg > screen 2>&1 || tail -3 screen
   say "cut2d ny $ny cut $cut ${CUT_ARGS:-}, segment $seg (continue $cont, walltime $wall): $(( $(date +%s) - t0 )) s wall; $(grep '^Loop time' log.seg$seg | tail -1)"
   say "  $(tail -1 forces.dat)"
-  say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
+  segment_total
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
   segment_save $tag
   cd "$ROOT"
@@ -316,7 +321,7 @@ EOI
     ${CHIP_ARGS:-} -log log.seg$seg > screen 2>&1 || tail -3 screen
   say "chip3d ny $ny nz $nz (free sides), segment $seg (continue $cont, walltime $wall): $(grep '^Loop time' log.seg$seg | tail -2 | head -1)"
   say "  $(tail -1 forces.dat)"
-  say "  loop time of all segments: $(cat log.seg* | awk '/^Loop time/{t+=$4;n+=$9} END{printf "%.1f s, %d steps", t, n}')"
+  segment_total
   python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
   segment_save $tag
   # the region around the tool (x >= CHIP_CROP, m) for the picture
