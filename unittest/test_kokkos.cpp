@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 using namespace sphcut_test;
@@ -699,6 +700,30 @@ struct CountLaunches {
     set_begin_deep_copy_callback(on ? count_copy : nullptr);
   }
 };
+
+const std::string CUT2D = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
+
+// the 2D example at 11 across under /kk with its launches counted (the counters above reset
+// first): the tool xstart spacings from the workpiece, steps steps, and the environment switch
+// env=value set for the run (env nullptr: none)
+std::unique_ptr<Lammps> counted_cut(const std::string &xstart, int steps, const char *env, const char *value)
+{
+  if (env) setenv(env, value, 1);
+  auto l = std::make_unique<Lammps>(MPI_COMM_WORLD, KK_FULL);
+  for (auto &v : {"xstart index " + xstart, "steps index " + std::to_string(steps), std::string("ny index 11"),
+                  std::string("dumpevery index 0"), std::string("thermoevery index 100")})
+    l->cmd("variable " + v);
+  launches.clear();
+  scans.clear();
+  sums_fills = 0;
+  max_builds = 0;
+  {
+    CountLaunches count(l->lmp);
+    l->lmp->input->file(CUT2D.c_str());
+  }
+  if (env) unsetenv(env);
+  return l;
+}
 }    // namespace
 
 // an ordinary step of the heat fix launches no kernel of its own under /kk: the held rate joins
@@ -754,20 +779,7 @@ TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
     for (const int fold : {1, 0}) {
       if (!near && !fold) continue;
       const int steps = near ? 600 : 100;
-      setenv("SPHCUT_GATHER_FOLD", fold ? "1" : "0", 1);
-      Lammps l(MPI_COMM_WORLD, KK_FULL);
-      for (auto &v : {std::string("xstart index ") + (near ? "0.6" : "3"), "steps index " + std::to_string(steps),
-                      std::string("ny index 11"), std::string("dumpevery index 0"), std::string("thermoevery index 100")})
-        l.cmd("variable " + v);
-      launches.clear();
-      scans.clear();
-      sums_fills = 0;
-      max_builds = 0;
-      {
-        CountLaunches count(l.lmp);
-        l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
-      }
-      unsetenv("SPHCUT_GATHER_FOLD");
+      const auto l = counted_cut(near ? "0.6" : "3", steps, "SPHCUT_GATHER_FOLD", fold ? "1" : "0");
       const std::string what = std::string(near ? "tool near" : "tool away") + (fold ? "" : ", own gather kernel");
       for (auto &n : launches)
         if (n.first.rfind("sphcut:contact:", 0) == 0)
@@ -786,9 +798,9 @@ TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
       EXPECT_EQ(sums_fills, 0) << what;
       if (near) {
         EXPECT_GT(max_builds, 0);                // the lists were built during the run
-        EXPECT_GT(l.equal("f_cut[7]"), 0.0);    // friction heat went into the tool particles
-        budget[fold][0] = l.equal("f_heat[4]");
-        budget[fold][1] = l.equal("f_heat[5]");
+        EXPECT_GT(l->equal("f_cut[7]"), 0.0);    // friction heat went into the tool particles
+        budget[fold][0] = l->equal("f_heat[4]");
+        budget[fold][1] = l->equal("f_heat[5]");
       }
     }
   }
@@ -810,23 +822,12 @@ TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
   int packs[2];
   long builds[2];
   for (const int pre : {1, 0}) {
-    setenv("SPHCUT_PAIR_PREPACK", pre ? "1" : "0", 1);
-    Lammps l(MPI_COMM_WORLD, KK_FULL);
-    for (auto &v : {std::string("xstart index 0.6"), "steps index " + std::to_string(steps), std::string("ny index 11"),
-                    std::string("dumpevery index 0"), std::string("thermoevery index 100")})
-      l.cmd("variable " + v);
-    launches.clear();
-    max_builds = 0;
-    {
-      CountLaunches count(l.lmp);
-      l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
-    }
-    unsetenv("SPHCUT_PAIR_PREPACK");
+    const auto l = counted_cut("0.6", steps, "SPHCUT_PAIR_PREPACK", pre ? "1" : "0");
     packs[pre] = launches["sphcut:pair:stress_pass"];
     builds[pre] = max_builds;
-    fc[pre] = l.equal("v_Fc");
-    ft[pre] = l.equal("v_Ft");
-    eint[pre] = l.equal("f_sph[2]");
+    fc[pre] = l->equal("v_Fc");
+    ft[pre] = l->equal("v_Ft");
+    eint[pre] = l->equal("f_sph[2]");
     std::printf("[ prepack  ] SPHCUT_PAIR_PREPACK=%d: %d stress passes in %d steps (%ld list builds); Fc %.15g, Ft %.15g\n",
                 pre, packs[pre], steps, builds[pre], fc[pre], ft[pre]);
   }
@@ -851,8 +852,7 @@ TEST(KokkosThermal, GatherFoldSwitchChecked)
   Lammps l(MPI_COMM_WORLD, KK_FULL);
   for (auto &v : {"xstart index 3", "steps index 10", "ny index 11", "dumpevery index 0"})
     l.cmd(std::string("variable ") + v);
-  EXPECT_TRUE(l.error_contains("include " + std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting",
-                               "SPHCUT_GATHER_FOLD=2 is not 0 or 1"));
+  EXPECT_TRUE(l.error_contains("include " + CUT2D, "SPHCUT_GATHER_FOLD=2 is not 0 or 1"));
   unsetenv("SPHCUT_GATHER_FOLD");
 }
 
@@ -897,7 +897,7 @@ TEST(KokkosThermal, DecompositionOnAnyStepAsOnTheCpu)
     const std::string name = k ? "kk" : "cpu";
     Lammps l(MPI_COMM_WORLD, k ? KK_FULL : std::vector<std::string>{});
     for (auto &v : vars) l.cmd("variable " + v);
-    l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
+    l.lmp->input->file(CUT2D.c_str());
     l.cmds({"variable dn equal f_cut[21]+f_cut[29]+f_cut[37]+f_cut[45]",
             "thermo_style custom step v_dn" + fcut, "thermo_modify format float %.17g", "thermo 7",
             "fix dec all ave/time 5 1 5" + fcut + " file decomp." + name + " format ' %.17g'",
