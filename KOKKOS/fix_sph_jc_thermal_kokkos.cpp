@@ -280,6 +280,16 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
   pairkk = dynamic_cast<PairSPHJCThermalKokkos<DeviceType> *>(force->pair_match("^sph/jc-thermal", 0));
   prepack = pairkk && sphcut::env_switch(lmp, "SPHCUT_PAIR_PREPACK", "Fix sph/jc-thermal/kk", 1) && prepack_allowed();
+  output_sync = sphcut::env_switch(lmp, "SPHCUT_OUTPUT_SYNC", "Fix sph/jc-thermal/kk", 1);
+  // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
+  // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
+  // /kk each of their steps would then copy all atom arrays back to the device.  What their
+  // variables may read stays synchronised to the host before them (datamask_read)
+  if (output_sync)
+    for (int i = 0; i < modify->nfix; i++)
+      if (!modify->fix[i]->kokkosable && (utils::strmatch(modify->fix[i]->style, "^print$") ||
+                                          utils::strmatch(modify->fix[i]->style, "^halt$")))
+        modify->fix[i]->datamask_modify = EMPTY_MASK;
   // the other sphcut styles (those that attach to this fix) read and write the state: under /kk
   // only their /kk variants do that on the device (a CPU variant would read a stale host copy)
   for (int i = 0; i < modify->nfix; i++)
@@ -337,6 +347,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vf
 {
   atomKK->sync(execution_space, datamask_read);
   FixSPHJCThermal::setup(vflag);    // timers, first stable dt (stable_dt below, on the device)
+  outputs_step = -1;
   // the device continues the host's plastic work (restart, earlier runs)
   k_dtlim.sync_host();
   k_dtlim.view_host()(STEP_WORK) = plastic_work;
@@ -651,7 +662,36 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
     apply_dt(finish_dt(std::min(k_dtlim.view_host()(STEP_DT), device_limits())));
   }
   // dumps and f_ID outputs read the host array on output steps and every peratom_freq steps
-  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) k_state.sync_host();
+  if (update->ntimestep == output->next || update->ntimestep % peratom_freq == 0) sync_outputs_host();
+}
+
+/* the output columns of the local rows to the host (see the header): packed on the device into
+   one buffer, one copy, unpacked into the host rows.  Within a step nothing changes the state on
+   the device after the fixes' final_integrate, so one copy a step serves end_of_step and the
+   outputs after it; at a setup it is always made.                                          */
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::sync_outputs_host()
+{
+  if (!output_sync) {
+    k_state.sync_host();
+    return;
+  }
+  if (!k_state.need_sync_host()) return;    // the host holds the whole rows
+  if (!update->setupflag && outputs_step == update->ntimestep) return;
+  const int n = atom->nlocal, nc = NOUT;
+  if ((int) d_outcols.extent(0) < n * nc) {
+    d_outcols = Kokkos::View<double *, typename DeviceType::memory_space>("sph/jc-thermal:outcols", (size_t) atom->nmax * nc);
+    h_outcols = Kokkos::View<double *, Kokkos::HostSpace>("sph/jc-thermal:outcols_host", d_outcols.extent(0));
+  }
+  auto st = k_state.template view<DeviceType>();
+  auto buf = d_outcols;
+  Kokkos::parallel_for("sphcut:sph:output_columns", sphcut::range<DeviceType>(0, n * nc), KOKKOS_LAMBDA(const int k) {
+    buf(k) = st(k / nc, k % nc);
+  });
+  Kokkos::deep_copy(Kokkos::subview(h_outcols, std::make_pair(0, n * nc)), Kokkos::subview(d_outcols, std::make_pair(0, n * nc)));
+  auto hs = k_state.view_host();
+  for (int i = 0; i < n; i++)
+    for (int c = 0; c < nc; c++) hs(i, c) = h_outcols(i * nc + c);
+  outputs_step = update->setupflag ? -1 : update->ntimestep;
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
@@ -681,7 +721,7 @@ template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::compute_ve
   if (n == 3) fetch_work();
   if (n > 0) {
     atomKK->sync(Host, V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
-    k_state.sync_host();
+    sync_outputs_host();    // (UINT, TEMP, EPS: output columns)
   }
   return FixSPHJCThermal::compute_vector(n);
 }

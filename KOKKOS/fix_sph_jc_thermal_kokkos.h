@@ -94,6 +94,11 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   double compute_vector(int) override;
   void write_restart(FILE *) override;
   void fetch_work();    // the plastic work summed on the device into plastic_work
+  // the output columns (RHO .. DTEMP: what dumps, f_ID[k] references and compute_vector read of
+  // the state) of the local rows to the host, not the whole rows: on output and peratom_every
+  // steps.  The DualView keeps the device as modified, so a host path that needs whole rows
+  // (exchange, restart, sort) still copies them.  (Public: it launches a device lambda)
+  void sync_outputs_host();
 
   void grow_arrays(int) override;
   void set_arrays(int) override;
@@ -157,6 +162,12 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   Kokkos::View<double *, typename DeviceType::memory_space> d_second;    // final_integrate's reduction (its final
                                                                          // writes the sums where they go)
   void upload_tables();
+  // SPHCUT_OUTPUT_SYNC (environment, 1 by default; 0: whole rows in sync_outputs_host, and fix print
+  // / fix halt left as they are in init, for the A/B)
+  int output_sync = 1;
+  bigint outputs_step = -1;    // the step whose output columns were copied (-1: none since the setup)
+  Kokkos::View<double *, typename DeviceType::memory_space> d_outcols;
+  Kokkos::View<double *, Kokkos::HostSpace> h_outcols;
   void sync_host_state() { k_state.sync_host(); }
   void modified_host_state() { k_state.modify_host(); }
 };

@@ -7,7 +7,10 @@
 
 #include "pair_sph_jc_thermal_kokkos.h"
 
+#include "atom_masks.h"
+#include "fix.h"
 #include "input.h"
+#include "modify.h"
 #include "neighbor.h"
 #include "update.h"
 
@@ -704,14 +707,16 @@ struct CountLaunches {
 const std::string CUT2D = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
 
 // the 2D example at 11 across under /kk with its launches counted (the counters above reset
-// first): the tool xstart spacings from the workpiece, steps steps, and the environment switch
-// env=value set for the run (env nullptr: none)
+// first): the tool xstart spacings from the workpiece, steps steps, a line of forces.dat (and the
+// per-atom outputs) every 10 steps, and the environment switch env=value set for the run (env
+// nullptr: none)
 std::unique_ptr<Lammps> counted_cut(const std::string &xstart, int steps, const char *env, const char *value)
 {
   if (env) setenv(env, value, 1);
   auto l = std::make_unique<Lammps>(MPI_COMM_WORLD, KK_FULL);
   for (auto &v : {"xstart index " + xstart, "steps index " + std::to_string(steps), std::string("ny index 11"),
-                  std::string("dumpevery index 0"), std::string("thermoevery index 100")})
+                  std::string("dumpevery index 0"), std::string("thermoevery index 100"),
+                  std::string("printevery index 10")})
     l->cmd("variable " + v);
   launches.clear();
   scans.clear();
@@ -841,6 +846,37 @@ TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
   // contact's records and heat sums are atomics)
   EXPECT_NEAR(fc[1], fc[0], 3e-10 * fabs(fc[0]));
   EXPECT_NEAR(ft[1], ft[0], 3e-10 * fabs(ft[0]));
+  EXPECT_NEAR(eint[1], eint[0], 3e-10 * fabs(eint[0]));
+}
+
+// output steps under /kk: fix sph/jc-thermal/kk copies the output columns of the state to the
+// host (the dumps' and f_ID[k]'s, which the example's rake temperature reads every printevery
+// steps), and fix print and fix halt no longer declare every atom array modified on the host (a
+// copy of all of them to the device after each of their steps).  The cut's forces.dat (the
+// rake temperature, Tmax) and the state are those of whole rows copied (SPHCUT_OUTPUT_SYNC=0)
+TEST(KokkosThermal, OutputStepsCopyTheOutputColumns)
+{
+  const int steps = 600;
+  std::vector<std::string> lines[2];
+  double eint[2], tmax[2];
+  for (const int sync : {1, 0}) {
+    const auto l = counted_cut("0.6", steps, "SPHCUT_OUTPUT_SYNC", sync ? "1" : "0");
+    for (const char *id : {"series", "stop"}) {
+      const int k = l->lmp->modify->find_fix(id);
+      ASSERT_GE(k, 0) << id;
+      const auto *f = l->lmp->modify->fix[k];
+      EXPECT_EQ(f->datamask_modify, sync ? (unsigned) EMPTY_MASK : (unsigned) ALL_MASK) << id;
+      EXPECT_EQ(f->datamask_read, (unsigned) ALL_MASK) << id;
+    }
+    eint[sync] = l->equal("f_sph[2]");
+    tmax[sync] = l->equal("f_sph[5]");
+    std::ifstream in("forces.dat");
+    for (std::string s; std::getline(in, s);) lines[sync].push_back(s);
+  }
+  EXPECT_GT(lines[1].size(), (size_t) steps / 10);    // a line every printevery (10) steps
+  EXPECT_EQ(lines[1], lines[0]);
+  EXPECT_GT(tmax[1], 310.0);    // in contact: heated (338 K, from 300)
+  EXPECT_EQ(tmax[1], tmax[0]);
   EXPECT_NEAR(eint[1], eint[0], 3e-10 * fabs(eint[0]));
 }
 
