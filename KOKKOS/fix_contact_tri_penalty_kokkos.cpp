@@ -2,7 +2,8 @@
    sphcut - fix contact/tri-penalty/kk
 
    post_force, on the device:
-     kernel 1 (one reduction over the local particles): each particle's
+     kernel 1 (one reduction over the local particles near the tool,
+       near_build: the others would change nothing): each particle's
        contact step (sphcut_contact_step.h contact_step, the CPU fix's
        too): the energy of the previous step's contact force, the nearest
        tool element within 2h, the spring's dt limit, the contact
@@ -116,6 +117,8 @@ template <class DeviceType> struct ContactKernel {
   Kokkos::View<double *, mem> facc;    // tool fields per facet: the running interval's sums
   Kokkos::View<const int *, mem> xoff, xnb;    // the cross neighbours (cross_build): a candidate's tool neighbours
   int reset;                           // zero the accumulators first (fetch() has read them)
+  Kokkos::View<const int *, mem> near;  // the particles to evaluate (near_build), when use_near
+  int use_near;
 
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
@@ -215,8 +218,9 @@ template <class DeviceType> struct ContactKernel {
     }
   };
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
+  KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type r) const
   {
+    const int i = use_near ? near(ii) : ii;
     qtw(i, 0) = 0.0;
     const bool candidate = bits.candidate(mask(i));
     Sink sink{*this, i, candidate ? type(i) : 0, r};
@@ -263,6 +267,43 @@ template <class DeviceType> struct CrossKernel {
       if (gather) xtool((int) (upd >> 32)) = i;
     }
     upd += c + (gather ? GATHER : 0);
+  }
+};
+
+// the contact kernel's particles (FixContactTriPenaltyKokkos::near_build): the local contact
+// candidates whose tool-frame position lies within slack of the tool's bin grid; the others get
+// their heat per weight and per-atom contact output cleared (after a reneighbouring a row may
+// hold another atom's values; the kernel clears them for the particles it evaluates)
+template <class DeviceType> struct NearKernel {
+  typedef DeviceType device_type;
+  typedef int value_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typedef typename DeviceType::memory_space mem;
+  typename sphcut::AtomTypes<DeviceType>::x_const x;
+  typename AT::t_int_1d_const mask;
+  typename AT::t_double_2d qtw, fout;
+  Kokkos::View<int *, mem> near;
+  ContactMaskBits bits;
+  double lo[3], hi[3];    // the grid's box widened by the slack, tool frame
+  double disp[3];
+  int ndim;               // 2: segments (x, y), 3: triangles
+
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, int &upd, const bool final) const
+  {
+    bool in = bits.candidate(mask(i));
+    for (int k = 0; k < ndim && in; k++) {
+      const double xt = x(i, k) - disp[k];
+      in = xt >= lo[k] && xt <= hi[k];
+    }
+    if (final) {
+      if (in) {
+        near(upd) = i;
+      } else {
+        qtw(i, 0) = 0.0;
+        for (int c = 0; c < 6; c++) fout(i, c) = 0.0;
+      }
+    }
+    upd += in ? 1 : 0;
   }
 };
 
@@ -345,6 +386,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   integ = dynamic_cast<FixSPHJCThermalKokkos<DeviceType> *>(fix);
   // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own (the A/B)
   fold_gather = sphcut::env_switch(lmp, "SPHCUT_GATHER_FOLD", "Fix contact/tri-penalty/kk", 1);
+  near_on = sphcut::env_switch(lmp, "SPHCUT_CONTACT_NEAR", "Fix contact/tri-penalty/kk", 1);
+  near_calls = -1;    // built again at the setup
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
   upload();
@@ -473,12 +516,19 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
     k.xnb = d_xnb;
   }
   k.reset = reset_accum;
+  k.use_near = near_on;
+  int nwork = atom->nlocal;
+  if (near_on) {
+    near_build(k.step);
+    k.near = d_near;
+    nwork = nnear;
+  }
   k.dtlim = fixkk->dt_slot_view<DeviceType>(this);
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
   // the sums go to d_sums on the device, the accumulators and the dt limit are updated there
   // (final): no host round trip; fetch() brings them to the host when an output needs them
-  Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, atom->nlocal), k,
+  Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, nwork), k,
                           Kokkos::subview(d_sums, std::make_pair(0, (int) NRED)));
   reset_accum = 0;
   fixkk->k_dtlim.template modify<DeviceType>();
@@ -561,6 +611,44 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::cross_b
     d_xnb = Kokkos::View<int *, mem>("contact:xnb", need + need / 4 + 1024);
   }
   nxtool = nlocal > 0 ? (int) (total >> 32) : 0;
+}
+
+/* the contact kernel's particles (see the header): a scan over the local particles, when the
+   atoms may have moved in the arrays or beyond the slack (a setup, a reneighbouring, another
+   number of particles) or the tool has moved more than half the slack since the last build.  The
+   slack is twice the neighbour skin: a particle moves at most half the skin between two
+   reneighbourings, the tool half the slack between two builds.                              */
+template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::near_build(const sphcut::ContactStep &step)
+{
+  const int nlocal = atom->nlocal;
+  near_slack = 2.0 * neighbor->skin;
+  double moved2 = 0.0;
+  for (int k = 0; k < 3; k++) moved2 += (step.disp[k] - near_disp[k]) * (step.disp[k] - near_disp[k]);
+  if (nnear >= 0 && !update->setupflag && near_calls == neighbor->ncalls && near_nlocal == nlocal &&
+      moved2 <= 0.25 * near_slack * near_slack)
+    return;
+  near_calls = neighbor->ncalls;
+  near_nlocal = nlocal;
+  for (int k = 0; k < 3; k++) near_disp[k] = step.disp[k];
+  if ((int) d_near.extent(0) < atom->nmax) d_near = Kokkos::View<int *, mem>("contact:near", atom->nmax);
+  NearKernel<DeviceType> c;
+  c.x = atomKK->k_x.view<DeviceType>();
+  c.mask = atomKK->k_mask.view<DeviceType>();
+  c.qtw = k_qtw.template view<DeviceType>();
+  c.fout = k_fout.template view<DeviceType>();
+  c.near = d_near;
+  c.bits = mask_bits();
+  const sphcut::TriBinView &g = step.tool;
+  c.ndim = g.nvert == 3 ? 3 : 2;
+  for (int k = 0; k < 3; k++) {
+    c.disp[k] = step.disp[k];
+    c.lo[k] = g.lo[k] - near_slack;
+    c.hi[k] = g.lo[k] + g.n[k] * g.size + near_slack;
+  }
+  if (g.nelem <= 0 || g.n[0] <= 0) c.ndim = 3, c.lo[0] = 1.0, c.hi[0] = 0.0;    // no tool: nobody is near
+  int total = 0;
+  Kokkos::parallel_scan("sphcut:contact:near_build", sphcut::range<DeviceType>(0, nlocal), c, total);
+  nnear = total;
 }
 
 /* the decomposition by tool feature (decomp) and the deepest penetration (maxpen) of the last

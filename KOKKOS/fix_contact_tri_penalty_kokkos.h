@@ -31,6 +31,8 @@ FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
 #include "sphcut_material.h"
 #include "sphcut_solid.h"
 
+#include <string>
+
 namespace LAMMPS_NS {
 
 class FixSPHJCThermalKokkosBase;
@@ -73,12 +75,32 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
 #endif
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  // "near": the number of particles the contact kernel evaluated last (int, dim 0; -1 before any)
+  void *extract(const char *name, int &dim) override
+  {
+    dim = 0;
+    return std::string(name) == "near" ? (void *) &nnear : nullptr;
+  }
 
  public:    // (CUDA: a function that launches a device lambda must be public)
   typedef typename DeviceType::memory_space mem;
   FixSPHJCThermalKokkosBase *fixkk;
   FixSPHJCThermalKokkos<DeviceType> *integ = nullptr;    // fixkk on this device type (the gather's hand-off)
   int fold_gather = 1;                           // SPHCUT_GATHER_FOLD (1, or 0: the gather's own kernel)
+  // the particles the contact kernel evaluates (near_build): the local contact candidates within
+  // near_slack of the tool's bin grid (tool frame), which holds every point within the search
+  // radius 2h of the tool; built at each setup and reneighbouring and when the tool has moved
+  // near_slack / 2 since.  The others have no contact state to clear (a particle in contact stays
+  // in the list until it is farther than near_slack from the grid) and find no element: the
+  // kernel skips them.  SPHCUT_CONTACT_NEAR=0 (environment): every local particle, for the A/B
+  int near_on = 1;
+  Kokkos::View<int *, mem> d_near;
+  int nnear = -1;                                // particles in d_near (-1: build it)
+  double near_disp[3] = {0.0, 0.0, 0.0};         // the tool's displacement at the build
+  double near_slack = 0.0;
+  bigint near_calls = -1;                        // neighbor->ncalls at the build
+  int near_nlocal = -1;
+  void near_build(const sphcut::ContactStep &step);
   Kokkos::View<double *, mem> d_elem, d_sphere, d_pnorm;    // d_pnorm: feature pseudo-normals
   Kokkos::View<int *, mem> d_start, d_index;
   sphcut::TriBinView d_view;                      // points at the device copies

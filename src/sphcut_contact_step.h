@@ -120,13 +120,15 @@ SPHCUT_INLINE void contact_heat(const ContactStep &cs, double fric_power, double
 
 /* ----------------------------------------------------------------------
    one particle's contact evaluation.  Every local particle: the energy
-   rates of its last contact force, its contact columns and output reset,
-   the velocity of this step and the friction memory's step.  A candidate
-   (in the fix's group, not a tool particle): the nearest tool element
-   within 2h (tool_surface), the spring's dt limit if it is in or near
-   contact, and inside the contact radius the penalty contact
-   (penalty_contact) with its force, record, tool fields, XSPH drift and
-   friction heat.
+   rates of its last contact force, its contact columns and output reset
+   and the friction memory's step.  A candidate (in the fix's group, not a
+   tool particle): the nearest tool element within 2h (tool_surface); one
+   that finds it keeps the velocity of this step, takes the spring's dt
+   limit if it is in or near contact, and inside the contact radius the
+   penalty contact (penalty_contact) with its force, record, tool fields,
+   XSPH drift and friction heat.  For a particle that had no contact force
+   and finds no element this changes nothing (what lets fix
+   contact/tri-penalty/kk skip the particles far from the tool).
 ------------------------------------------------------------------------- */
 
 template <class Sink>
@@ -150,10 +152,6 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
     }
   fc[0] = fc[1] = fc[2] = 0.0;
   for (int k = 0; k < 6; k++) fo[k] = 0.0;
-  if (!cs.setup) {
-    for (int k = 0; k < 3; k++) vc[k] = sink.v(k);
-    vc[3] = 1.0;
-  }
   // friction memory: a step takes the last step's friction force as f_old, remembers it
   // as its input and zeroes the state (set again below if the particle is in contact)
   if (cs.fmemory && !cs.setup) memory_friction_step(fm);
@@ -166,6 +164,14 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   int region;
   const int best = tool_surface(cs.tool, xt, h, in.d, in.n, q, region);
   if (best < 0) return;
+  // the velocity of this step, for a continued run's setup (repeat, below) of a particle in
+  // contact: kept by the particles that find the tool within 2h (a particle in contact at a
+  // setup found it the step before), so that the others touch no contact column on a step
+  // without contact force (fix contact/tri-penalty/kk evaluates only the particles near the tool)
+  if (!cs.setup) {
+    for (int k = 0; k < 3; k++) vc[k] = sink.v(k);
+    vc[3] = 1.0;
+  }
   const double v[3] = {sink.v(0), sink.v(1), sink.v(2)};
   const double m = sink.mass();
   const double sp = sink.spacing();
