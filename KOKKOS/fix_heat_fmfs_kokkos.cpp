@@ -379,17 +379,28 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
   const int gb = groupbit, has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
   const double flam = fmfs_lambda, thr = surfkk ? surfkk->threshold : 0.0;
   double nf = 0.0, nb = 0.0, nfb = 0.0;
-  Kokkos::parallel_for("sphcut:heat:zero_weights",
-      sphcut::range<DeviceType>(0, atom->nlocal + atom->nghost), KOKKOS_LAMBDA(const int i) { fw(i, FW0) = 0.0; });
-  if (fuse)
-    Kokkos::parallel_for(
-        "sphcut:heat:zero_surface", sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
-          for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
-        });
+  // every local particle's weight flag and surface values are cleared before they are set: in
+  // the pass itself when its list holds every local particle (the ghosts take theirs from the
+  // forward communication after it), else in kernels of their own first
+  const int clear = list->inum == atom->nlocal;
+  if (!clear) {
+    Kokkos::parallel_for("sphcut:heat:zero_weights",
+        sphcut::range<DeviceType>(0, atom->nlocal + atom->nghost), KOKKOS_LAMBDA(const int i) { fw(i, FW0) = 0.0; });
+    if (fuse)
+      Kokkos::parallel_for(
+          "sphcut:heat:zero_surface", sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+            for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
+          });
+  }
   Kokkos::parallel_reduce("sphcut:heat:weights",
       sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
         const int i = d.av.ilist(ii);
+        if (clear) {
+          fw(i, FW0) = 0.0;
+          if (fuse)
+            for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
+        }
         if (!(d.av.mask(i) & gb)) return;
         const sphcut::Material &mi = mat(d.av.type(i));
         const int conducts = mi.cp > 0.0;
@@ -431,12 +442,17 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
   const int gb = groupbit, use_rmass = atom->rmass_flag, has_surf = surfkk != nullptr;
   const sphcut::HeatLosses hl = losses();
   double pc = 0.0, pr = 0.0;
-  Kokkos::parallel_for("sphcut:heat:zero_held",
-      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
+  // the held rate of every local particle is set: by the pass itself when its list holds every
+  // local particle, else cleared first in a kernel of its own
+  const int clear = list->inum == atom->nlocal;
+  if (!clear)
+    Kokkos::parallel_for("sphcut:heat:zero_held",
+        sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   Kokkos::parallel_reduce("sphcut:heat:exchange",
       sphcut::range<DeviceType>(0, list->inum),
       KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
         const int i = d.av.ilist(ii);
+        if (clear) d.av.st(i, F::HELD) = 0.0;
         if (!(d.av.mask(i) & gb)) return;
         const int itype = d.av.type(i);
         const sphcut::Material &mi = mat(itype);
