@@ -767,6 +767,9 @@ TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
   EXPECT_EQ(launches["sphcut:heat:dt_limit"], 0);             // reduction, and the thermal limit
   EXPECT_EQ(launches["sphcut:heat:add_held"], 0);
   EXPECT_EQ(launches["sphcut:heat:set_dirichlet"], 0);
+  EXPECT_EQ(launches["sphcut:heat:zero_weights"], 0);    // cleared in the passes that set them
+  EXPECT_EQ(launches["sphcut:heat:zero_surface"], 0);    // (the list holds every local particle)
+  EXPECT_EQ(launches["sphcut:heat:zero_held"], 0);
   EXPECT_GT(l.equal("f_heat[3]"), 0.0);    // heat entered through the hot Dirichlet layer
 }
 
