@@ -1063,10 +1063,8 @@ std::string num(double x)
   return b;
 }
 
-// rows: step, the dt of the next step, the least density of the heat fix's group after the step;
-// sphargs: more keywords of fix sph/jc-thermal
-std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &args, const std::string &heatargs,
-                                              const std::string &sphargs = "", const std::string &vy = "-1")
+// the plate: the box y in [-5, 0] mm (x, z in [-20, 20] mm) as dtplate.stl (rank 0 writes it)
+void write_plate_stl()
 {
   int me;
   MPI_Comm_rank(MPI_COMM_WORLD, &me);
@@ -1083,19 +1081,38 @@ std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &ar
     }
     fprintf(fp, "endsolid plate\n");
     fclose(fp);
-    std::remove("dtlim.dat");
   }
   MPI_Barrier(MPI_COMM_WORLD);
-  Lammps l(MPI_COMM_WORLD, args);
-  // lower row 0.03 mm above the contact distance 0.5 h / sfac (h 1.3 mm, sfac 1.2)
-  const double y0 = 0.5 * 1.3e-3 / 1.2 + 0.03e-3;
-  l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
+}
+
+// the 4 x 3 steel block of the plate scenes (2D, 1 mm spacing, mass 7.8e-3 each), its lower row
+// 0.03 mm above the contact distance 0.5 h / sfac (h 1.3 mm, sfac 1.2) from the plate's top y = 0
+const double BLOCK_Y0 = 0.5 * 1.3e-3 / 1.2 + 0.03e-3;
+std::vector<std::string> block_cmds()
+{
+  const double y0 = BLOCK_Y0;
+  return {"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
           "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3 units box", "create_box 1 box",
           "lattice sq 1e-3 origin 0 " + num(y0 / 1.0e-3) + " 0",
           "region blk block -0.1e-3 3.1e-3 " + num(y0 - 0.1e-3) + " " + num(y0 + 2.1e-3) + " -0.5e-3 0.5e-3 units box",
-          "create_atoms 1 region blk", "region topr block INF INF " + num(y0 + 1.9e-3) + " INF INF INF units box",
-          "group top region topr", "mass 1 7.8e-3", "pair_style sph/jc-thermal",
-          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 2e7",
+          "create_atoms 1 region blk", "mass 1 7.8e-3", "pair_style sph/jc-thermal"};
+}
+
+// rows: step, the dt of the next step, the least density of the heat fix's group after the step;
+// sphargs: more keywords of fix sph/jc-thermal
+std::vector<std::vector<double>> dt_limit_run(const std::vector<std::string> &args, const std::string &heatargs,
+                                              const std::string &sphargs = "", const std::string &vy = "-1")
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  write_plate_stl();
+  if (me == 0) std::remove("dtlim.dat");
+  MPI_Barrier(MPI_COMM_WORLD);
+  Lammps l(MPI_COMM_WORLD, args);
+  const double y0 = BLOCK_Y0;
+  l.cmds(block_cmds());
+  l.cmds({"region topr block INF INF " + num(y0 + 1.9e-3) + " INF INF INF units box",
+          "group top region topr", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 2e7",
           "fix sph all sph/jc-thermal cfl 0.3 peratom_every 1 " + sphargs, "fix heat all heat/fmfs " + heatargs,
           "fix tool all contact/tri-penalty stl dtplate.stl pfac 10 dfac 0.1 dtfac 0.5",
           "velocity all set 0 " + vy + " 0 units box", "timestep 1e-8", "compute rho all reduce min f_sph[1]",
@@ -1193,19 +1210,14 @@ TEST(KokkosThermal, ContactListFollowsTheTool)
 {
   int me;
   MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  dt_limit_run({}, "", "", "0");    // writes dtplate.stl (a short CPU run of the plate scene)
+  write_plate_stl();
   double work[2], diss[2], vy[2];
   int nnear0 = -1;
   for (const int near : {1, 0}) {
     setenv("SPHCUT_CONTACT_NEAR", near ? "1" : "0", 1);
     Lammps l(MPI_COMM_WORLD, KK_FULL);
-    const double y0 = 0.5 * 1.3e-3 / 1.2 + 0.03e-3;
-    l.cmds({"units si", "dimension 2", "boundary f f p", "atom_style atomic", "atom_modify map array",
-            "region box block -0.02 0.02 -0.02 0.02 -0.5e-3 0.5e-3 units box", "create_box 1 box",
-            "lattice sq 1e-3 origin 0 " + num(y0 / 1.0e-3) + " 0",
-            "region blk block -0.1e-3 3.1e-3 " + num(y0 - 0.1e-3) + " " + num(y0 + 2.1e-3) + " -0.5e-3 0.5e-3 units box",
-            "create_atoms 1 region blk", "mass 1 7.8e-3", "pair_style sph/jc-thermal",
-            "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3", "neighbor 0.2e-3 bin",
+    l.cmds(block_cmds());
+    l.cmds({"pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3", "neighbor 0.2e-3 bin",
             "neigh_modify every 1 delay 0 check yes", "fix sph all sph/jc-thermal cfl 0.3",
             "fix tool all contact/tri-penalty stl dtplate.stl move 0 -6e-3 0 velocity 0 10 0 pfac 10 dfac 0.1",
             "variable vy equal vcm(all,y)", "thermo 0", "run 0"});
