@@ -287,10 +287,11 @@ template <class DeviceType> struct NearKernel {
   double lo[3], hi[3];    // the grid's box widened by the slack, tool frame
   double disp[3];
   int ndim;               // 2: segments (x, y), 3: triangles
+  int none;               // 1: the tool has no element (nobody is near)
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i, int &upd, const bool final) const
   {
-    bool in = bits.candidate(mask(i));
+    bool in = !none && bits.candidate(mask(i));
     for (int k = 0; k < ndim && in; k++) {
       const double xt = x(i, k) - disp[k];
       in = xt >= lo[k] && xt <= hi[k];
@@ -613,7 +614,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::cross_b
   nxtool = nlocal > 0 ? (int) (total >> 32) : 0;
 }
 
-/* the contact kernel's particles (see the header): a scan over the local particles, when the
+/* the contact kernel's particles (see the header; the bins' grid reaches one bin, at least the
+   largest query radius, beyond the elements: tri_bin_build): a scan over the local particles, when the
    atoms may have moved in the arrays or beyond the slack (a setup, a reneighbouring, another
    number of particles) or the tool has moved more than half the slack since the last build.  The
    slack is twice the neighbour skin: a particle moves at most half the skin between two
@@ -645,7 +647,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::near_bu
     c.lo[k] = g.lo[k] - near_slack;
     c.hi[k] = g.lo[k] + g.n[k] * g.size + near_slack;
   }
-  if (g.nelem <= 0 || g.n[0] <= 0) c.ndim = 3, c.lo[0] = 1.0, c.hi[0] = 0.0;    // no tool: nobody is near
+  c.none = g.nelem <= 0 || g.n[0] <= 0;
   int total = 0;
   Kokkos::parallel_scan("sphcut:contact:near_build", sphcut::range<DeviceType>(0, nlocal), c, total);
   nnear = total;
