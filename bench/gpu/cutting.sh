@@ -49,6 +49,11 @@
 #   envab    one binary under ENVAB_SETS environment settings or -var settings of the input (;-separated,
 #            e.g. SPHCUT_PAIR_BOUNDS=0 or -var balance shift), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
+#   outsteps what an output step costs: the 2D cut in contact at OUT_NY (41) across, PROF_STEPS (3000)
+#            steps, a line of forces.dat every 10 steps (the example; its print line without Trake;
+#            without Tmax and Trake; no fix print) and every 100, in turn OUT_REPS (2) times; then
+#            SPHCUT_OUTPUT_SYNC 0 / 1 at every 10 steps (whole state rows and fix print's ALL_MASK,
+#            or the output columns); with OUT_NZ layers (e.g. 58) the 3D slab the same way
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -626,6 +631,50 @@ envab() {
         say "    3D nz $nz: $(slab_rate log.ev${k}z${nz}r$r)"
       done
     done
+  done
+  cd "$ROOT"
+}
+
+# the example's input with its print line changed (as: as it is, notrake, nottmax, noprint)
+print_variant() {
+  case $3 in
+    as) cp "$1" "$2" ;;
+    notrake) sed 's| \${Tmax} \${Trake}"| ${Tmax}"|' "$1" > "$2" ;;
+    nottmax) sed 's| \${Ft} \${Tmax} \${Trake}"| ${Ft}"|' "$1" > "$2" ;;
+    noprint) sed -e 's|^fix          series all print.*&$|variable noprint string \&|' \
+                 -e 's|^             screen no title "# step time cut_mm.*$|"x"|' "$1" > "$2" ;;
+  esac
+}
+
+outsteps() {
+  cd $W
+  local steps=${PROF_STEPS:-3000} ny=${OUT_NY:-41} r v s
+  for v in as notrake nottmax noprint; do
+    print_variant "$EX2" $W/in2.$v $v
+    [ -z "${OUT_NZ:-}" ] || print_variant "$EX3" $W/in3.$v $v
+  done
+  # one run: label, input, printevery, more lmp arguments
+  one() {
+    local label=$1 in=$2 pe=$3; shift 3
+    timeout 280 "$BIN" $GPUK $NEV -in $in -var ny $ny -var xstart 1 -var steps $steps -var thermoevery 1000 \
+      -var printevery $pe -var dumpevery 0 "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
+    say "  $label: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f us/step", a, n, 1e6*t/n}' log.$label)"
+  }
+  # the 3D slab of bench3d (41 across, OUT_NZ layers, 200 steps) from the input in
+  one3() {
+    local label=$1 in=$2 pe=$3
+    timeout 290 "$BIN" $GPUK $NEV -in $in -var ny 41 -var nz $OUT_NZ -var xstart 1 -var steps ${BENCH_STEPS:-200} \
+      -var thermoevery 100 -var printevery $pe -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
+    say "  $label: $(slab_rate log.$label)"
+  }
+  for r in $(seq ${OUT_REPS:-2}); do
+    for v in as notrake nottmax noprint; do one os${v}p10r$r $W/in2.$v 10; done
+    one osasp100r$r $W/in2.as 100
+    for s in 0 1; do SPHCUT_OUTPUT_SYNC=$s one ossync${s}p10r$r $W/in2.as 10; done
+    if [ -n "${OUT_NZ:-}" ]; then
+      for v in as noprint; do one3 os3${v}p10r$r $W/in3.$v 10; done
+      one3 os3asp100r$r $W/in3.as 100
+    fi
   done
   cd "$ROOT"
 }
