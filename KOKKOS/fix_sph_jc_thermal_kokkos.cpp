@@ -666,7 +666,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
 }
 
 /* the output columns of the local rows to the host (see the header): packed on the device into
-   one buffer, one copy, unpacked into the host rows.  Within a step nothing changes the state on
+   the staging buffer of the classic forward communication (stage_state), one copy, unpacked into
+   the host rows.  Within a step nothing changes the state on
    the device after the fixes' final_integrate, so one copy a step serves end_of_step and the
    outputs after it; at a setup it is always made.                                          */
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::sync_outputs_host()
@@ -678,19 +679,10 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::sync_outputs
   if (!k_state.need_sync_host()) return;    // the host holds the whole rows
   if (!update->setupflag && outputs_step == update->ntimestep) return;
   const int n = atom->nlocal, nc = NOUT;
-  if ((int) d_outcols.extent(0) < n * nc) {
-    d_outcols = Kokkos::View<double *, typename DeviceType::memory_space>("sph/jc-thermal:outcols", (size_t) atom->nmax * nc);
-    h_outcols = Kokkos::View<double *, Kokkos::HostSpace>("sph/jc-thermal:outcols_host", d_outcols.extent(0));
-  }
-  auto st = k_state.template view<DeviceType>();
-  auto buf = d_outcols;
-  Kokkos::parallel_for("sphcut:sph:output_columns", sphcut::range<DeviceType>(0, n * nc), KOKKOS_LAMBDA(const int k) {
-    buf(k) = st(k / nc, k % nc);
-  });
-  Kokkos::deep_copy(Kokkos::subview(h_outcols, std::make_pair(0, n * nc)), Kokkos::subview(d_outcols, std::make_pair(0, n * nc)));
+  stage_state.pack_range(k_state, 0, nc, 0, n);
   auto hs = k_state.view_host();
   for (int i = 0; i < n; i++)
-    for (int c = 0; c < nc; c++) hs(i, c) = h_outcols(i * nc + c);
+    for (int c = 0; c < nc; c++) hs(i, c) = stage_state.h_buf(i * nc + c);
   outputs_step = update->setupflag ? -1 : update->ntimestep;
 }
 

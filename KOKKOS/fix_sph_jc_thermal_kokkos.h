@@ -147,7 +147,8 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
   bigint gather_step = -1;
   const void *gather_owner = nullptr;
-  sphcut::StagedColumns<DeviceType> stage_state;    // the force state's rows on the classic forward communication
+  sphcut::StagedColumns<DeviceType> stage_state;    // the force state's rows on the classic forward
+                                                    // communication; the output columns (sync_outputs_host)
   bigint rates_zeroed_step = -1;    // step whose initial_integrate zeroed the rates (pre_force skips its kernel)
   int remap;                   // 1: state rows follow the atoms by tag during a run, 0: grow callback
   int nrows;                   // rows holding the state of the atoms labelled in k_rowtag
@@ -166,8 +167,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   // / fix halt left as they are in init, for the A/B)
   int output_sync = 1;
   bigint outputs_step = -1;    // the step whose output columns were copied (-1: none since the setup)
-  Kokkos::View<double *, typename DeviceType::memory_space> d_outcols;
-  Kokkos::View<double *, Kokkos::HostSpace> h_outcols;
   void sync_host_state() { k_state.sync_host(); }
   void modified_host_state() { k_state.modify_host(); }
 };

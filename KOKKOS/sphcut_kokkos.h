@@ -171,7 +171,8 @@ void unpack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, int fi
 }
 
 // the classic (host) forward communication of columns col0 .. col0 + ncol - 1 of a DualView that
-// lives on the device: only the listed rows travel, packed on the device into a staging buffer
+// lives on the device (and, pack_range, a copy of some columns of a range of rows to the host):
+// only the listed rows travel, packed on the device into a staging buffer
 // whose used part alone is copied to the host (unpack: the reverse), so the array stays current
 // on the device (a host sync of the array would copy all of it both ways every step: with 4 M
 // particles and 49 state columns 1.6 GB).  LAMMPS 29Sep2021 takes this path on several ranks
@@ -213,6 +214,22 @@ template <class DeviceType> struct StagedColumns {
     Kokkos::deep_copy(Kokkos::subview(h_buf, used_buf), Kokkos::subview(buf, used_buf));
     for (int m = 0; m < n * ncol; m++) out[m] = h_buf(m);
     return n * ncol;
+  }
+
+  // rows first .. first + n - 1 (no list): packed on the device, the used part copied into h_buf
+  // (row ii's columns at h_buf(ii * ncol) ..)
+  void pack_range(::DAT::tdual_double_2d &k, int col0, int ncol, int first, int n)
+  {
+    k.template sync<DeviceType>();
+    grow(0, n * ncol);
+    const auto used_buf = std::make_pair(0, n * ncol);
+    auto b = buf;
+    auto v = k.template view<DeviceType>();
+    Kokkos::parallel_for(
+        "sphcut:stage_pack_range", range<DeviceType>(0, n * ncol), KOKKOS_LAMBDA(const int m) {
+          b(m) = v(first + m / ncol, col0 + m % ncol);
+        });
+    Kokkos::deep_copy(Kokkos::subview(h_buf, used_buf), Kokkos::subview(buf, used_buf));
   }
 
   void unpack(::DAT::tdual_double_2d &k, int col0, int ncol, int n, int first, const double *in)
