@@ -55,8 +55,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
-#include <string>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -623,7 +621,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::cross_b
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::near_build(const sphcut::ContactStep &step)
 {
   const int nlocal = atom->nlocal;
-  near_slack = 2.0 * neighbor->skin;
+  const double near_slack = 2.0 * neighbor->skin;
   double moved2 = 0.0;
   for (int k = 0; k < 3; k++) moved2 += (step.disp[k] - near_disp[k]) * (step.disp[k] - near_disp[k]);
   if (nnear >= 0 && !update->setupflag && near_calls == neighbor->ncalls && near_nlocal == nlocal &&

@@ -88,16 +88,16 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   FixSPHJCThermalKokkos<DeviceType> *integ = nullptr;    // fixkk on this device type (the gather's hand-off)
   int fold_gather = 1;                           // SPHCUT_GATHER_FOLD (1, or 0: the gather's own kernel)
   // the particles the contact kernel evaluates (near_build): the local contact candidates within
-  // near_slack of the tool's bin grid (tool frame), which holds every point within the search
-  // radius 2h of the tool; built at each setup and reneighbouring and when the tool has moved
-  // near_slack / 2 since.  The others have no contact state to clear (a particle in contact stays
-  // in the list until it is farther than near_slack from the grid) and find no element: the
-  // kernel skips them.  SPHCUT_CONTACT_NEAR=0 (environment): every local particle, for the A/B
+  // a slack (twice the neighbour skin) of the tool's bin grid (tool frame), which holds every point
+  // within the search radius 2h of the tool; built at each setup and reneighbouring and when the
+  // tool has moved half the slack since.  The others have no contact state to clear (a particle
+  // in contact stays in the list until it is farther than the slack from the grid) and find no
+  // element: the kernel skips them.  SPHCUT_CONTACT_NEAR=0 (environment): every local particle,
+  // for the A/B
   int near_on = 1;
   Kokkos::View<int *, mem> d_near;
   int nnear = -1;                                // particles in d_near (-1: build it)
   double near_disp[3] = {0.0, 0.0, 0.0};         // the tool's displacement at the build
-  double near_slack = 0.0;
   bigint near_calls = -1;                        // neighbor->ncalls at the build
   int near_nlocal = -1;
   void near_build(const sphcut::ContactStep &step);
