@@ -730,6 +730,33 @@ std::unique_ptr<Lammps> counted_cut(const std::string &xstart, int steps, const 
   if (env) unsetenv(env);
   return l;
 }
+
+// the cut's Fc, Ft and internal energy at the end of a run
+struct CutEnd {
+  double fc, ft, eint;
+};
+CutEnd cut_end(Lammps &l)
+{
+  return {l.equal("v_Fc"), l.equal("v_Ft"), l.equal("f_sph[2]")};
+}
+
+// two runs of one cut under an A/B switch give the same cut (equal to the bit on one thread; on 2
+// threads two runs of one input may differ by 1e-10 in Fc: the contact's records and heat sums
+// are atomics)
+void expect_same_cut_end(const CutEnd &a, const CutEnd &b)
+{
+  EXPECT_NEAR(a.fc, b.fc, 3e-10 * fabs(b.fc));
+  EXPECT_NEAR(a.ft, b.ft, 3e-10 * fabs(b.ft));
+  EXPECT_NEAR(a.eint, b.eint, 3e-10 * fabs(b.eint));
+}
+
+// the number of particles fix contact/tri-penalty/kk id evaluated last (its extract "near")
+const int *contact_near(Lammps &l, const char *id)
+{
+  int dim = -1;
+  const int k = l.lmp->modify->find_fix(id);
+  return k < 0 ? nullptr : static_cast<const int *>(l.lmp->modify->fix[k]->extract("near", dim));
+}
 }    // namespace
 
 // an ordinary step of the heat fix launches no kernel of its own under /kk: the held rate joins
@@ -827,30 +854,24 @@ TEST(KokkosThermal, ContactLaunchesPerOrdinaryStep)
 TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
 {
   const int steps = 600;
-  double fc[2], ft[2], eint[2];
+  CutEnd end[2];
   int packs[2];
   long builds[2];
   for (const int pre : {1, 0}) {
     const auto l = counted_cut("0.6", steps, "SPHCUT_PAIR_PREPACK", pre ? "1" : "0");
     packs[pre] = launches["sphcut:pair:stress_pass"];
     builds[pre] = max_builds;
-    fc[pre] = l->equal("v_Fc");
-    ft[pre] = l->equal("v_Ft");
-    eint[pre] = l->equal("f_sph[2]");
+    end[pre] = cut_end(*l);
     std::printf("[ prepack  ] SPHCUT_PAIR_PREPACK=%d: %d stress passes in %d steps (%ld list builds); Fc %.15g, Ft %.15g\n",
-                pre, packs[pre], steps, builds[pre], fc[pre], ft[pre]);
+                pre, packs[pre], steps, builds[pre], end[pre].fc, end[pre].ft);
   }
   int nprocs;
   MPI_Comm_size(MPI_COMM_WORLD, &nprocs);
   EXPECT_EQ(packs[0], steps);    // the counting works: one a step
   EXPECT_GT(builds[1], 0);
   if (nprocs == 1) EXPECT_EQ(packs[1], (int) builds[1]);    // only where the lists were rebuilt
-  EXPECT_GT(fc[1], 20.0);                  // in contact
-  // (equal to the bit here; on 2 threads two runs of one input may differ by 1e-10 in Fc: the
-  // contact's records and heat sums are atomics)
-  EXPECT_NEAR(fc[1], fc[0], 3e-10 * fabs(fc[0]));
-  EXPECT_NEAR(ft[1], ft[0], 3e-10 * fabs(ft[0]));
-  EXPECT_NEAR(eint[1], eint[0], 3e-10 * fabs(eint[0]));
+  EXPECT_GT(end[1].fc, 20.0);    // in contact
+  expect_same_cut_end(end[1], end[0]);
 }
 
 // output steps under /kk: fix sph/jc-thermal/kk copies the output columns of the state to the
@@ -898,26 +919,22 @@ TEST(KokkosThermal, OutputStepsCopyTheOutputColumns)
 TEST(KokkosThermal, ContactEvaluatesTheParticlesNearTheTool)
 {
   const int steps = 600;
-  double fc[2], ft[2], eint[2], ncont[2];
+  CutEnd end[2];
+  double ncont[2];
   int nnear = -1, nlocal = 0;
   for (const int near : {1, 0}) {
     const auto l = counted_cut("0.6", steps, "SPHCUT_CONTACT_NEAR", near ? "1" : "0");
-    fc[near] = l->equal("v_Fc");
-    ft[near] = l->equal("v_Ft");
-    eint[near] = l->equal("f_sph[2]");
+    end[near] = cut_end(*l);
     ncont[near] = l->equal("f_cut[5]");
     if (near) {
-      int dim = -1;
-      const int k = l->lmp->modify->find_fix("cut");
-      ASSERT_GE(k, 0);
-      const auto *p = static_cast<const int *>(l->lmp->modify->fix[k]->extract("near", dim));
+      const int *p = contact_near(*l, "cut");
       ASSERT_NE(p, nullptr);
       nnear = *p;
       nlocal = l->lmp->atom->nlocal;
     }
-    std::printf("[ near     ] SPHCUT_CONTACT_NEAR=%d: Fc %.15g, Ft %.15g, %g in contact%s\n", near, fc[near], ft[near],
-                ncont[near], near ? (", " + std::to_string(nnear) + " of " + std::to_string(nlocal) +
-                                     " local particles evaluated").c_str() : "");
+    std::printf("[ near     ] SPHCUT_CONTACT_NEAR=%d: Fc %.15g, Ft %.15g, %g in contact%s\n", near, end[near].fc,
+                end[near].ft, ncont[near], near ? (", " + std::to_string(nnear) + " of " + std::to_string(nlocal) +
+                                                   " local particles evaluated").c_str() : "");
   }
   EXPECT_GT(ncont[1], 2.0);    // in contact
   int counts[2] = {nnear, nlocal}, sums[2];
@@ -925,11 +942,7 @@ TEST(KokkosThermal, ContactEvaluatesTheParticlesNearTheTool)
   EXPECT_GT(sums[0], (int) ncont[1]);    // (over the ranks)
   EXPECT_LT(sums[0], sums[1] / 4);
   EXPECT_EQ(ncont[1], ncont[0]);
-  // (equal to the bit on one thread; on 2 threads two runs of one input may differ by 1e-10:
-  // the contact's records and heat sums are atomics)
-  EXPECT_NEAR(fc[1], fc[0], 3e-10 * fabs(fc[0]));
-  EXPECT_NEAR(ft[1], ft[0], 3e-10 * fabs(ft[0]));
-  EXPECT_NEAR(eint[1], eint[0], 3e-10 * fabs(eint[0]));
+  expect_same_cut_end(end[1], end[0]);
 }
 
 // the benchmarks' switch of the contact fix (SPHCUT_GATHER_FOLD: the tool-heat gather's own kernel):
@@ -1221,8 +1234,7 @@ TEST(KokkosThermal, ContactListFollowsTheTool)
             "neigh_modify every 1 delay 0 check yes", "fix sph all sph/jc-thermal cfl 0.3",
             "fix tool all contact/tri-penalty stl dtplate.stl move 0 -6e-3 0 velocity 0 10 0 pfac 10 dfac 0.1",
             "variable vy equal vcm(all,y)", "thermo 0", "run 0"});
-    int dim;
-    const auto *p = static_cast<const int *>(l.lmp->modify->fix[l.lmp->modify->find_fix("tool")]->extract("near", dim));
+    const int *p = contact_near(l, "tool");
     ASSERT_NE(p, nullptr);
     if (near) nnear0 = *p;
     l.cmd("run 12000");
