@@ -129,7 +129,7 @@ rate2d() {
     -var printevery 100 -var dumpevery 0 -log log.rate$ny > screen.rate$ny 2>&1 || { tail -5 screen.rate$ny; }
   local loop; loop=$(grep "^Loop time" log.rate$ny | tail -1)
   say "rate2d ny $ny: $loop"
-  say "  $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%.1f us/step, %.3e particle-steps/s", 1e6*t/n, a*n/t}' log.rate$ny)"
+  say "  $(step_rate log.rate$ny)"
   awk '/sphcut timing/{n++} n==2' log.rate$ny | sed -n '1,8p' | grep -v "^Loop" | sed 's/^/    /' >> "$SUM"
   cd "$ROOT"
 }
@@ -285,6 +285,11 @@ slab_run() {
     -var thermoevery 100 -var printevery 100 "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
 }
 
+# a 2D run's rate from its log: particles, steps, us a step, particle-steps/s
+step_rate() {
+  awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f us/step, %.3e particle-steps/s", a, n, 1e6*t/n, a*n/t}' "$1"
+}
+
 # a slab run's rate from its log: particles, steps, ms a step, particle-steps/s
 slab_rate() {
   awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.2f ms/step, %.3e particle-steps/s", a, n, 1e3*t/n, a*n/t}' "$1"
@@ -354,7 +359,7 @@ prof_run() {
   local label=$1 ex=$2; shift 2
   timeout 280 "$BIN" ${PROF_GPUK:-$GPUK} -in "$ex" -var xstart 1 -var thermoevery 1000 -var printevery 100 -var dumpevery 0 \
     "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
-  say "  $label: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f us/step, %.3e particle-steps/s", a, n, 1e6*t/n, a*n/t}' log.$label)"
+  say "  $label: $(step_rate log.$label)"
 }
 
 prof() {
@@ -658,7 +663,7 @@ outsteps() {
     local label=$1 in=$2 pe=$3; shift 3
     timeout 280 "$BIN" $GPUK $NEV -in $in -var ny $ny -var xstart 1 -var steps $steps -var thermoevery 1000 \
       -var printevery $pe -var dumpevery 0 "$@" -log log.$label > screen.$label 2>&1 || tail -3 screen.$label
-    say "  $label: $(awk '/^Loop time/{t=$4;n=$9;a=$12} END{printf "%d particles, %d steps, %.1f us/step", a, n, 1e6*t/n}' log.$label)"
+    say "  $label: $(step_rate log.$label)"
   }
   # the 3D slab of bench3d (41 across, OUT_NZ layers, 200 steps) from the input in
   one3() {
