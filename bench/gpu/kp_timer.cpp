@@ -8,6 +8,10 @@
 // defaults 3000 and 30000), and at the end the device's own clock gives each kernel's execution
 // time and the time the device sat idle before it (waiting for the host to launch it): the
 // timeline of the run without a profiler.  Rows: calls, device time, mean; then the idle time.
+// KP_TIMER_SYNC=host: no CUDA call at all; the host's clock inside each launch or copy (what a
+// launch costs the host, or how long a copy to the host waits for the device) and before it
+// (LAMMPS' own host work since the previous one), over the same window of calls: whether the
+// step is bound by the host or by the device.  Rows: calls, host inside, mean, host before.
 // Build (device machine):  g++ -O2 -shared -fPIC -o libkp_timer.so kp_timer.cpp
 //                            -I$CUDA/include -L$CUDA/lib64 -lcudart
 // Use:  KOKKOS_PROFILE_LIBRARY=$PWD/libkp_timer.so lmp -k on g 1 -sf kk ...
@@ -40,6 +44,21 @@ std::map<std::string, Stat> stats;
 std::vector<Open> open_kernels;
 bool sync = true;
 bool events = false;
+bool hostclock = false;
+// host mode: the host's time inside and before each name
+struct HostStat {
+  long calls = 0;
+  double inside = 0.0, before = 0.0;
+};
+std::map<std::string, HostStat> hstats;
+double h_last_end = -1.0, h_first = -1.0, h_last = -1.0;
+long h_seen = 0, h_kept = 0;
+struct HostOpen {
+  std::string name;
+  double t0, before;
+  bool kept;
+};
+std::vector<HostOpen> h_open;
 long skip_calls = 3000, max_calls = 30000, seen_calls = 0;
 struct Mark {
   int name;
@@ -130,8 +149,41 @@ std::string pretty_uncached(const char *name, const char *kind)
   return std::string(kind) + " " + out;
 }
 
+void host_begin(const std::string &name)
+{
+  double t = now();
+  h_seen++;
+  bool kept = h_seen > skip_calls && h_kept < max_calls && h_open.empty();
+  double before = h_last_end >= 0.0 ? t - h_last_end : 0.0;
+  if (kept) {
+    h_kept++;
+    if (h_first < 0.0) h_first = t;
+  }
+  h_open.push_back({name, t, before, kept});
+}
+
+void host_end()
+{
+  double t = now();
+  HostOpen o = h_open.back();
+  h_open.pop_back();
+  if (!h_open.empty()) return;    // nested (a copy inside a launch): counted in the outer one
+  h_last_end = t;
+  if (!o.kept) return;
+  HostStat &s = hstats[o.name];
+  s.calls++;
+  s.inside += t - o.t0;
+  s.before += o.before;
+  h_last = t;
+}
+
 void begin(const char *name, const char *kind, uint64_t *kid)
 {
+  if (hostclock) {
+    host_begin(pretty(name, kind));
+    *kid = 0;
+    return;
+  }
   if (events) {
     open_marks.push_back(open_mark(pretty(name, kind)));
     *kid = 0;
@@ -144,6 +196,10 @@ void begin(const char *name, const char *kind, uint64_t *kid)
 
 void end(uint64_t)
 {
+  if (hostclock) {
+    host_end();
+    return;
+  }
   if (events) {
     close_mark(open_marks.back());
     open_marks.pop_back();
@@ -166,7 +222,8 @@ struct SpaceHandle {
 void kokkosp_init_library(const int, const uint64_t, const uint32_t, void *)
 {
   const char *e = getenv("KP_TIMER_SYNC");
-  sync = !(e && (strcmp(e, "0") == 0 || strcmp(e, "events") == 0));
+  hostclock = e && strcmp(e, "host") == 0;
+  sync = !(e && (strcmp(e, "0") == 0 || strcmp(e, "events") == 0 || hostclock));
   events = e && strcmp(e, "events") == 0;
   if (const char *v = getenv("KP_TIMER_SKIP")) skip_calls = atol(v);
   if (const char *v = getenv("KP_TIMER_CALLS")) max_calls = atol(v);
@@ -190,6 +247,10 @@ void kokkosp_begin_deep_copy(SpaceHandle dst, const char *dname, const void *, S
 {
   char buf[200];
   snprintf(buf, sizeof(buf), "copy %s <- %s %s%s", dst.name, src.name, dname, size > 0 ? "" : " (empty)");
+  if (hostclock) {
+    host_begin(buf);
+    return;
+  }
   if (events) {
     open_marks.push_back(open_mark(buf));
     return;
@@ -200,6 +261,10 @@ void kokkosp_begin_deep_copy(SpaceHandle dst, const char *dname, const void *, S
 
 void kokkosp_end_deep_copy()
 {
+  if (hostclock) {
+    host_end();
+    return;
+  }
   if (events) {
     close_mark(open_marks.back());
     open_marks.pop_back();
@@ -245,6 +310,28 @@ void report_events(FILE *f)
             idle[k], names[k].c_str());
 }
 
+// host mode: the host's time inside each name and before it
+void report_host(FILE *f)
+{
+  std::vector<std::pair<std::string, HostStat>> rows(hstats.begin(), hstats.end());
+  std::sort(rows.begin(), rows.end(),
+            [](auto &a, auto &b) { return a.second.inside + a.second.before > b.second.inside + b.second.before; });
+  double in = 0.0, bef = 0.0;
+  for (auto &r : rows) {
+    in += r.second.inside;
+    bef += r.second.before;
+  }
+  const double span = h_last > h_first ? h_last - h_first : 0.0;
+  fprintf(f, "# kp_timer host: %ld calls (from call %ld), host span %.4f s, inside launches and copies %.4f s "
+          "(%.1f %%), before them %.4f s\n", h_kept, skip_calls + 1, span, in, span > 0 ? 100.0 * in / span : 0.0, bef);
+  fprintf(f, "# %10s %12s %10s %12s %10s  name (host inside, host before)\n", "calls", "inside_s", "mean_us",
+          "before_s", "mean_us");
+  for (auto &r : rows)
+    fprintf(f, "  %10ld %12.4f %10.2f %12.4f %10.2f  %s\n", r.second.calls, r.second.inside,
+            r.second.calls ? 1e6 * r.second.inside / r.second.calls : 0.0, r.second.before,
+            r.second.calls ? 1e6 * r.second.before / r.second.calls : 0.0, r.first.c_str());
+}
+
 void kokkosp_finalize_library()
 {
   std::vector<std::pair<std::string, Stat>> rows(stats.begin(), stats.end());
@@ -252,6 +339,11 @@ void kokkosp_finalize_library()
   const char *path = getenv("KP_TIMER_OUT");
   FILE *f = path ? fopen(path, "w") : stderr;
   if (!f) f = stderr;
+  if (hostclock) {
+    report_host(f);
+    if (f != stderr) fclose(f);
+    return;
+  }
   if (events) {
     report_events(f);
     if (f != stderr) fclose(f);
