@@ -57,6 +57,8 @@
 #include "error.h"
 #include "kokkos.h"
 #include "force.h"
+#include "atom_vec.h"
+#include "integrate.h"
 #include "memory_kokkos.h"
 #include "modify.h"
 #include "neighbor.h"
@@ -78,6 +80,13 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 namespace {
+
+// the integrator's flag that it leaves the force clear to someone else (Integrate's protected
+// external_force_clear, which LAMMPS' OpenMP package sets from inside Verlet::init), reached
+// through a member pointer named in a derived class
+struct IntegrateForceClear : Integrate {
+  static int &flag(Integrate *in) { return in->*(&IntegrateForceClear::external_force_clear); }
+};
 
 /* second half of the step with the two sums the host needs: the plastic
    work of the step and this rank's Courant limit (computed from the final
@@ -281,6 +290,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   pairkk = dynamic_cast<PairSPHJCThermalKokkos<DeviceType> *>(force->pair_match("^sph/jc-thermal", 0));
   prepack = pairkk && sphcut::env_switch(lmp, "SPHCUT_PAIR_PREPACK", "Fix sph/jc-thermal/kk", 1) && prepack_allowed();
   output_sync = sphcut::env_switch(lmp, "SPHCUT_OUTPUT_SYNC", "Fix sph/jc-thermal/kk", 1);
+  clear_f = sphcut::env_switch(lmp, "SPHCUT_FORCE_CLEAR", "Fix sph/jc-thermal/kk", 1) && force_clear_allowed();
   // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
   // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
@@ -348,6 +358,13 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vf
   atomKK->sync(execution_space, datamask_read);
   FixSPHJCThermal::setup(vflag);    // timers, first stable dt (stable_dt below, on the device)
   outputs_step = -1;
+  // from here to post_run the forces are zeroed by this fix's kernels (force_clear_allowed); the
+  // setup's own were cleared by LAMMPS before its forces
+  if (clear_f && !clear_f_active) {
+    saved_force_clear = IntegrateForceClear::flag(update->integrate);
+    IntegrateForceClear::flag(update->integrate) = 1;
+    clear_f_active = 1;
+  }
   // the device continues the host's plastic work (restart, earlier runs)
   k_dtlim.sync_host();
   k_dtlim.view_host()(STEP_WORK) = plastic_work;
@@ -474,6 +491,9 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   // pair's stress pass then packs only the ghosts
   sphcut::RowPacker<DeviceType> packer;
   if (prepack) packer = pairkk->packer_for_fix();
+  // the forces of every local particle zeroed after the half kick has read them (clear_f_active):
+  // LAMMPS' force clear of this step skipped (external_force_clear)
+  const int zero_f = clear_f_active;
   Kokkos::parallel_for("sphcut:sph:initial_integrate",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
         if (mask(i) & gb) {
@@ -489,12 +509,14 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
             v(i, d) = vi[d];
           }
         }
+        if (zero_f)
+          for (int d = 0; d < 3; d++) f(i, d) = 0.0;
         sphcut::zero_rates(&st(i, 0));
         if (nd) sphcut::hold_predicted_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, &st(i, 0));
         if (packer.active) packer(i);
       });
   k_state.template modify<DeviceType>();
-  atomKK->modified(execution_space, datamask_modify);
+  atomKK->modified(execution_space, datamask_modify | (zero_f ? F_MASK : 0));
   rates_zeroed_step = update->ntimestep;
   if (packer.active) pairkk->rows_prepacked(update->ntimestep);
 }
@@ -512,9 +534,20 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   // exchange, sorting, created atoms) or this is the setup
   const bool zeroed = !update->setupflag && rates_zeroed_step == update->ntimestep && neighbor->ago != 0;
   if (!zeroed) {
+    // the forces too when this fix clears them (clear_f_active), where LAMMPS would clear them
+    // after the atoms were rebuilt: a guard (exchanged and sorted atoms land in rows initial_integrate
+    // zeroed or that held no forces; f travels with neither), free in this launch
+    const int zero_f = clear_f_active && !update->setupflag;
+    if (zero_f) atomKK->sync(execution_space, F_MASK);
+    auto f = atomKK->k_f.view<DeviceType>();
     Kokkos::parallel_for("sphcut:sph:pre_force",
-        sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { sphcut::zero_rates(&st(i, 0)); });
+        sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
+          sphcut::zero_rates(&st(i, 0));
+          if (zero_f)
+            for (int d = 0; d < 3; d++) f(i, d) = 0.0;
+        });
     k_state.template modify<DeviceType>();
+    if (zero_f) atomKK->modified(execution_space, F_MASK);
   }
   // the force state to the ghosts: on the device unless LAMMPS takes the classic path
   sphcut::forward_comm(comm, this);
@@ -632,6 +665,36 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::prepack_allo
   return true;
 }
 
+/* this fix may zero the forces itself (clear_f), in initial_integrate after the half kick and in
+   pre_force after a reneighbouring, when that is all LAMMPS' force clear (VerletKokkos::force_clear)
+   would do and nothing reads or writes the forces in between: the Verlet integrator, newton off
+   (the ghosts' forces are then not cleared either), no kspace or bonded terms (VerletKokkos may
+   merge forces computed on the host), no torque or extra force arrays, no
+   neigh_modify include group; no fix of another kind has initial_integrate after this one (it
+   would read zeroed forces), post_integrate (its forces would survive), or pre_force before this
+   one (pre_force's zeroing after a reneighbouring would erase its forces) */
+template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::force_clear_allowed() const
+{
+  if (!utils::strmatch(update->integrate_style, "^verlet") || utils::strmatch(update->integrate_style, "^verlet/split"))
+    return false;
+  if (force->newton || force->kspace || atom->molecular || atom->torque_flag || atom->avec->forceclearflag ||
+      neighbor->includegroup)
+    return false;
+  int self = -1;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (modify->fix[i] == this) {
+      self = i;
+      continue;
+    }
+    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) continue;
+    const int m = modify->fmask[i];
+    if ((m & FixConst::POST_INTEGRATE) || ((m & FixConst::PRE_FORCE) && self < 0) ||
+        ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
+      return false;
+  }
+  return true;
+}
+
 /* fix contact/tri-penalty/kk's tool-heat gather (sphcut_tool_heat_kokkos.h) of this step, applied by
    final_integrate's kernel to each particle before its corrector instead of in a kernel of the
    contact fix: its heat joins DTEMP before the held rate, in the order the separate kernel gave.
@@ -704,6 +767,10 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
     std::sort(atom->extra_grow, atom->extra_grow + atom->nextra_grow);
     grow_arrays(atom->nmax);
     grow_callback = 1;
+  }
+  if (clear_f_active) {
+    IntegrateForceClear::flag(update->integrate) = saved_force_clear;    // setups and other runs clear as before
+    clear_f_active = 0;
   }
   FixSPHJCThermal::post_run();
 }

@@ -144,6 +144,13 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   PairSPHJCThermalKokkos<DeviceType> *pairkk = nullptr;    // the pair on this device type (init)
   int prepack = 0;    // its local rows packed in initial_integrate (init: SPHCUT_PAIR_PREPACK, prepack_allowed)
   bool prepack_allowed() const;
+  // the forces zeroed in initial_integrate's kernel, after the half kick has read them, and in
+  // pre_force's after a reneighbouring, instead of LAMMPS' own launch (Verlet's external_force_clear,
+  // set from setup to post_run; init: SPHCUT_FORCE_CLEAR, force_clear_allowed)
+  int clear_f = 0;
+  int clear_f_active = 0;          // this run's setup set the integrator's flag (post_run restores it)
+  int saved_force_clear = 0;       // the flag before
+  bool force_clear_allowed() const;
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
   bigint gather_step = -1;
   const void *gather_owner = nullptr;

@@ -11,6 +11,7 @@
 #include "atom_masks.h"
 #include "fix.h"
 #include "input.h"
+#include "integrate.h"
 #include "modify.h"
 #include "neighbor.h"
 #include "update.h"
@@ -872,6 +873,53 @@ TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
   if (nprocs == 1) EXPECT_EQ(packs[1], (int) builds[1]);    // only where the lists were rebuilt
   EXPECT_GT(end[1].fc, 20.0);    // in contact
   expect_same_cut_end(end[1], end[0]);
+}
+
+// the integrator's flag that the forces are cleared by someone else (protected in Integrate)
+struct IntegrateForceClear : LAMMPS_NS::Integrate {
+  static int flag(LAMMPS_NS::Integrate *in) { return in->*(&IntegrateForceClear::external_force_clear); }
+};
+
+// LAMMPS' launch of its force clear (the Zero functor) outside the setups
+int zero_launches()
+{
+  int n = 0;
+  for (auto &k : launches)
+    if (k.first.find("Zero") != std::string::npos && k.first.find("MemsetZero") == std::string::npos) n += k.second;
+  return n;
+}
+
+// with newton off fix sph/jc-thermal/kk zeroes the forces in its first-half kernel, after the half
+// kick has read them, and after each reneighbouring in pre_force (the exchange and the sort move
+// atoms into rows the kernel did not zero): LAMMPS' own force clear is not launched in the steps,
+// and the cut is the one of LAMMPS clearing them (SPHCUT_FORCE_CLEAR=0), also when it goes on with
+// the lists rebuilt at every step and the atoms sorted every 10.  After each run the integrator
+// clears them again (its flag restored)
+TEST(KokkosThermal, ForcesClearedInTheFirstHalf)
+{
+  const int steps = 600;
+  CutEnd end[2], end2[2];
+  int zeros[2];
+  for (const int fused : {1, 0}) {
+    const auto l = counted_cut("0.6", steps, "SPHCUT_FORCE_CLEAR", fused ? "1" : "0");
+    zeros[fused] = zero_launches();
+    end[fused] = cut_end(*l);
+    EXPECT_EQ(IntegrateForceClear::flag(l->lmp->update->integrate), 0);    // restored at post_run
+    setenv("SPHCUT_FORCE_CLEAR", fused ? "1" : "0", 1);
+    l->cmd("atom_modify sort 10 0.0");
+    l->cmd("neigh_modify every 1 delay 0 check no");
+    l->cmd("run 100");
+    unsetenv("SPHCUT_FORCE_CLEAR");
+    end2[fused] = cut_end(*l);
+    std::printf("[ f clear  ] SPHCUT_FORCE_CLEAR=%d: %d force clears in %d steps; Fc %.15g, Ft %.15g; after 100 "
+                "steps sorted every 10: Fc %.15g, Ft %.15g\n", fused, zeros[fused], steps, end[fused].fc,
+                end[fused].ft, end2[fused].fc, end2[fused].ft);
+  }
+  EXPECT_EQ(zeros[0], steps);    // the counting works: one a step
+  EXPECT_EQ(zeros[1], 0);
+  EXPECT_GT(end[1].fc, 20.0);    // in contact
+  expect_same_cut_end(end[1], end[0]);
+  expect_same_cut_end(end2[1], end2[0]);
 }
 
 // output steps under /kk: fix sph/jc-thermal/kk copies the output columns of the state to the
