@@ -62,12 +62,12 @@ using namespace FixConst;
 
 namespace {
 
-// the sums of the contact kernel (a short list: each GPU thread keeps them in shared memory):
-// R_FX.. are added, R_DTCRIT minimised; the first ten are sphcut::contact_step's sums
-// (sphcut::ContactSum, the same numbers).  R_TWORK and R_DISS hold both rates of the step's
-// trapezoid, the previous contact force's and this one's (the host needs only their sum).  Not
-// among them: the contacts (counted by the slots of their records), the decomposition by tool
-// feature and the deepest penetration (from the records, when they are read: record_sums())
+// the sums of the contact kernel: R_FX.. are added, R_DTCRIT minimised; the first ten are
+// sphcut::contact_step's sums (sphcut::ContactSum, the same numbers).  R_TWORK and R_DISS hold both
+// rates of the step's trapezoid, the previous contact force's and this one's (the host needs only
+// their sum).  Not among them: the contacts (counted by the slots of their records), the
+// decomposition by tool feature and the deepest penetration (from the records, when they are
+// read: record_sums())
 enum {
   R_FX = sphcut::CS_FX, R_FY, R_FZ, R_TWORK = sphcut::CS_WORK, R_DISS = sphcut::CS_DISS, R_FRIC = sphcut::CS_FRIC,
   R_QWORK = sphcut::CS_QWORK, R_QLOST, R_QLUMP, R_QTOOL = sphcut::CS_QTOOL, R_QSRC, R_DTCRIT, NRED
@@ -80,13 +80,18 @@ static_assert((int) R_FZ == (int) sphcut::CS_FZ && (int) R_QLUMP == (int) sphcut
 enum { A_QWORK = 0, A_QLOST, A_QTOOL, A_QSRC, A_QLUMP, A_TWORK, A_DISS, NACCUM };
 
 // then the two counters of the contact records (d_sums(C_NREC + 0 or 1), used in turn), so
-// that fetch() brings the number of contacts with the sums
-enum { C_NREC = NRED + NACCUM, NSUMS = C_NREC + 2 };
+// that fetch() brings the number of contacts with the sums; then the sums R_FX .. R_QSRC of the
+// running evaluation (S_RUN + c), which its particles add to by atomics (only those with something
+// to add: the few in contact) and its final moves to d_sums(c)
+enum { C_NREC = NRED + NACCUM, S_RUN = C_NREC + 2, NSUMS = S_RUN + R_DTCRIT };
 
+// the kernel reduces only the smallest spring dt (a scalar: Kokkos 3.4 reduces an array of sums in a
+// shared-memory tree whose cost grows with the sums, 16 us a launch for 12 against 7.7 for one on
+// an H100: bench/gpu/launch, RESULTS.md "The launch floor"); the sums go by atomics, and final
+// (one thread after all the others) publishes them as the step's
 template <class DeviceType> struct ContactKernel {
   typedef DeviceType device_type;
-  typedef double value_type[];
-  const unsigned value_count = NRED;
+  typedef double value_type;
   typedef ArrayTypes<DeviceType> AT;
   typedef typename DeviceType::memory_space mem;
   using SL = sphcut::StateLayout;
@@ -118,20 +123,23 @@ template <class DeviceType> struct ContactKernel {
   Kokkos::View<const int *, mem> near;  // the particles to evaluate (near_build), when use_near
   int use_near;
 
-  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  KOKKOS_INLINE_FUNCTION void init(value_type &dtcrit) const { dtcrit = 1.0e300; }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type &d, const volatile value_type &s) const
   {
-    for (int k = 0; k < NRED; k++) r[k] = 0.0;
-    r[R_DTCRIT] = 1.0e300;
+    if (s < d) d = s;
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  // once, on the device, after every particle: the step's sums from their running copies (zeroed
+  // for the next evaluation), the time integrals (as the CPU fix's post_force) and the dt limit
+  // stay on the device; the host reads them when it needs them
+  KOKKOS_INLINE_FUNCTION void final(value_type &dtcrit) const
   {
-    for (int k = 0; k < R_DTCRIT; k++) d[k] += s[k];
-    if (s[R_DTCRIT] < d[R_DTCRIT]) d[R_DTCRIT] = s[R_DTCRIT];
-  }
-  // once, on the device, with this rank's sums: the time integrals (as the CPU fix's post_force)
-  // and the dt limit stay on the device; the host reads them when it needs them
-  KOKKOS_INLINE_FUNCTION void final(value_type r) const
-  {
+    for (int c = 0; c < R_DTCRIT; c++) {
+      sums(c) = sums(S_RUN + c);
+      sums(S_RUN + c) = 0.0;
+    }
+    sums(R_DTCRIT) = dtcrit;
+    double r[NRED];
+    for (int c = 0; c < NRED; c++) r[c] = sums(c);
     if (reset)
       for (int a = 0; a < NACCUM; a++) sums(NRED + a) = 0.0;
     sums(NRED + A_QWORK) += r[R_QWORK];
@@ -216,13 +224,19 @@ template <class DeviceType> struct ContactKernel {
     }
   };
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type r) const
+  KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type &dtcrit) const
   {
     const int i = use_near ? near(ii) : ii;
     qtw(i, 0) = 0.0;
     const bool candidate = bits.candidate(mask(i));
+    double r[NRED];    // this particle's share of the sums
+    for (int c = 0; c < R_DTCRIT; c++) r[c] = 0.0;
+    r[R_DTCRIT] = dtcrit;
     Sink sink{*this, i, candidate ? type(i) : 0, r};
     sphcut::contact_step(step, candidate, sink);
+    for (int c = 0; c < R_DTCRIT; c++)
+      if (r[c] != 0.0) Kokkos::atomic_add(&sums(S_RUN + c), r[c]);
+    dtcrit = r[R_DTCRIT];
   }
 };
 
@@ -528,7 +542,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   // the sums go to d_sums on the device, the accumulators and the dt limit are updated there
   // (final): no host round trip; fetch() brings them to the host when an output needs them
   Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, nwork), k,
-                          Kokkos::subview(d_sums, std::make_pair(0, (int) NRED)));
+                          Kokkos::subview(d_sums, (int) R_DTCRIT));
   reset_accum = 0;
   fixkk->k_dtlim.template modify<DeviceType>();
   fixkk->k_state.template modify<DeviceType>();
