@@ -3,7 +3,9 @@
 // with a small functor and with one of 3 KB (the size of sphcut's contact and pair functors),
 // through the kernel-argument path (HintLightWeight, what sphcut::range asks for) and Kokkos'
 // default (constant memory above 512 bytes), and reductions into a device View and into a host
-// scalar.  For each: the host's time per launch (submission only: no fence inside the loop) and
+// scalar, and reductions of 4 and 12 sums with a final (the integrator's corrector and the
+// contact kernel) as a runtime-sized array (value_type[]) and as a struct, over N and over 21
+// indices (the contact kernel's near list).  For each: the host's time per launch (submission only: no fence inside the loop) and
 // the time per launch with one fence at the end (what the device takes when the host is ahead).
 // Build: cmake -S bench/gpu/launch -B build-launch -DKokkos_DIR=<prefix>/lib/cmake/Kokkos
 #include <Kokkos_Core.hpp>
@@ -43,6 +45,94 @@ struct BigReduce {
     m = m < a(i) ? a(i) : m;
   }
 };
+
+// an array reduction of NV sums with a final that adds them to acc (device View)
+template <int NV> struct Sums {
+  typedef double value_type[];
+  const int value_count = NV;
+  Kokkos::View<double *> a, acc;
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  {
+    for (int k = 0; k < NV; k++) r[k] = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  {
+    for (int k = 0; k < NV; k++) d[k] += s[k];
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
+  {
+    for (int k = 0; k < NV; k++) r[k] += a(i);
+  }
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const
+  {
+    for (int k = 0; k < NV; k++) acc(k) += r[k];
+  }
+};
+
+// the same sums as one value of fixed size (a struct): Kokkos reduces it with warp shuffles
+template <int NV> struct Fixed {
+  double v[NV];
+};
+template <int NV> struct FixedSums {
+  typedef Fixed<NV> value_type;
+  Kokkos::View<double *> a, acc;
+  KOKKOS_INLINE_FUNCTION void init(value_type &r) const
+  {
+    for (int k = 0; k < NV; k++) r.v[k] = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type &d, const volatile value_type &s) const
+  {
+    for (int k = 0; k < NV; k++) d.v[k] += s.v[k];
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &r) const
+  {
+    for (int k = 0; k < NV; k++) r.v[k] += a(i);
+  }
+  KOKKOS_INLINE_FUNCTION void final(value_type &r) const
+  {
+    for (int k = 0; k < NV; k++) acc(k) += r.v[k];
+  }
+};
+
+template <int NV> void time_fixed(int n, int m)
+{
+  FixedSums<NV> f;
+  f.a = Kokkos::View<double *>("a", n > 0 ? n : 1);
+  f.acc = Kokkos::View<double *>("acc", NV);
+  Kokkos::View<Fixed<NV>> out("out");
+  auto pol = Kokkos::Experimental::require(Kokkos::RangePolicy<>(0, n), Kokkos::Experimental::WorkItemProperty::HintLightWeight);
+  for (int k = 0; k < 100; k++) Kokkos::parallel_reduce("lf", pol, f, out);
+  Kokkos::fence();
+  double t0 = now();
+  for (int k = 0; k < m; k++) Kokkos::parallel_reduce("lf", pol, f, out);
+  double t1 = now();
+  Kokkos::fence();
+  double t2 = now();
+  char what[80];
+  std::snprintf(what, sizeof(what), "%d sums (a struct) and a final, n = %d", NV, n);
+  std::printf("%-44s %5zu B: host %6.2f us/launch, with the device %6.2f us/launch\n", what, sizeof(f),
+              1e6 * (t1 - t0) / m, 1e6 * (t2 - t0) / m);
+}
+
+template <int NV> void time_sums(int n, int m)
+{
+  Sums<NV> f;
+  f.a = Kokkos::View<double *>("a", n > 0 ? n : 1);
+  f.acc = Kokkos::View<double *>("acc", NV);
+  Kokkos::View<double *> out("out", NV);
+  auto pol = Kokkos::Experimental::require(Kokkos::RangePolicy<>(0, n), Kokkos::Experimental::WorkItemProperty::HintLightWeight);
+  for (int k = 0; k < 100; k++) Kokkos::parallel_reduce("ls", pol, f, out);
+  Kokkos::fence();
+  double t0 = now();
+  for (int k = 0; k < m; k++) Kokkos::parallel_reduce("ls", pol, f, out);
+  double t1 = now();
+  Kokkos::fence();
+  double t2 = now();
+  char what[80];
+  std::snprintf(what, sizeof(what), "%d sums and a final into a device View, n = %d", NV, n);
+  std::printf("%-44s %5zu B: host %6.2f us/launch, with the device %6.2f us/launch\n", what, sizeof(f),
+              1e6 * (t1 - t0) / m, 1e6 * (t2 - t0) / m);
+}
 
 template <class F> void time_for(const char *what, const F &f, int n, int m, bool light)
 {
@@ -100,6 +190,12 @@ int main(int argc, char **argv)
     t1 = now();
     std::printf("%-44s %5zu B: %6.2f us/launch (each waits for its result)\n", "max reduce into a host scalar, light",
                 sizeof(r), 1e6 * (t1 - t0) / m);
+    for (const int rows : {n, 21}) {
+      time_sums<4>(rows, m);
+      time_fixed<4>(rows, m);
+      time_sums<12>(rows, m);
+      time_fixed<12>(rows, m);
+    }
   }
   Kokkos::finalize();
   return 0;
