@@ -44,7 +44,7 @@
 #   ab       speed of this tree (A) against a baseline (B: .carry/b-src.tar.gz, build_b of common.sh),
 #            in turn AB_REPS times (default 2): the 2D cut in contact at AB_NY (41) across, PROF_STEPS
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
-#            steps (particle-steps/s); AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
+#            steps (particle-steps/s), AB_NY= or AB_NZ= (empty) leaving that part out; AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
 #            (kernel times)
 #   envab    one binary under ENVAB_SETS environment settings or -var settings of the input (;-separated,
 #            e.g. SPHCUT_PAIR_BOUNDS=0 or -var balance shift), in
@@ -589,10 +589,10 @@ ab() {
   for r in $(seq ${AB_REPS:-2}); do
     for v in A B; do
       ab_variant $v
-      for ny in ${AB_NY:-41}; do
+      for ny in ${AB_NY-41}; do
         BIN=$bin LAMMPS_PLUGIN_PATH=$pp prof_run ab$v${ny}r$r "$EX2" -var ny $ny -var steps $steps $NEV
       done
-      for nz in ${AB_NZ:-58 232}; do
+      for nz in ${AB_NZ-58 232}; do
         BIN=$bin LAMMPS_PLUGIN_PATH=$pp slab_run ab$v$nz$r $nz
         say "  ab$v 3D nz $nz r$r: $(slab_rate log.ab$v$nz$r)"
       done
