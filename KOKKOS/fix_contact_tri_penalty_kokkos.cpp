@@ -211,17 +211,12 @@ template <class DeviceType> struct ContactKernel {
     KOKKOS_INLINE_FUNCTION bool heat_tool(double q) const
     {
       double wsum = 0.0;
-      const double xi[3] = {k.x(i, 0), k.x(i, 1), k.x(i, 2)};
-      const int end = k.xoff(i + 1);
-      // (unrolled, without a branch on the mask: a candidate's cross neighbours are tool particles,
-      // the check a guard; an added 0 leaves the sum as the CPU's)
-      SPHCUT_UNROLL(4)
-      for (int c = k.xoff(i); c < end; c++) {
+      for (int c = k.xoff(i); c < k.xoff(i + 1); c++) {
         const int j = k.xnb(c);
+        if (!(k.mask(j) & k.bits.tool)) continue;
         double r2 = 0.0;
-        for (int d = 0; d < 3; d++) r2 += (xi[d] - k.x(j, d)) * (xi[d] - k.x(j, d));
-        const double w = sphcut::tool_heat_weight(k.kernel, k.step.base.dim, r2, k.hij(it * k.ntp + k.type(j)));
-        wsum += (k.mask(j) & k.bits.tool) ? w : 0.0;
+        for (int d = 0; d < 3; d++) r2 += (k.x(i, d) - k.x(j, d)) * (k.x(i, d) - k.x(j, d));
+        wsum += sphcut::tool_heat_weight(k.kernel, k.step.base.dim, r2, k.hij(it * k.ntp + k.type(j)));
       }
       if (!(wsum > 0.0)) return false;
       k.qtw(i, 0) = q / wsum;

@@ -97,16 +97,6 @@ void dirichlet_to_device(std::vector<int> bits, std::vector<double> temps, const
 
 // the two-value reduction of the integrators' second halves (value_type double[2]): a sum in r[0]
 // (work, heat) and a minimum in r[1] (a time-step limit)
-// a loop unrolled N times in the device code (nvcc's pragma; host compilers choose for
-// themselves): where each pass loads a neighbour's index and then its data, the loads of N passes
-// are in flight at once instead of one chain after another
-#if defined(__CUDA_ARCH__)
-#define SPHCUT_PRAGMA(x) _Pragma(#x)
-#define SPHCUT_UNROLL(N) SPHCUT_PRAGMA(unroll N)
-#else
-#define SPHCUT_UNROLL(N)
-#endif
-
 KOKKOS_INLINE_FUNCTION void sum_min_init(double *r)
 {
   r[0] = 0.0;

@@ -40,19 +40,13 @@ template <class DeviceType> struct ToolHeatGather {
   {
     if (!(av.mask(j) & tb)) return;
     double p = 0.0;
-    const double xj[3] = {av.x(j, 0), av.x(j, 1), av.x(j, 2)};
-    const int end = xoff(j + 1);
-    // (unrolled: most neighbours have no contact heat, and the loads of several passes' indices
-    // and heats are then in flight at once instead of one chain after another)
-    SPHCUT_UNROLL(4)
-    for (int c = xoff(j); c < end; c++) {
+    for (int c = xoff(j); c < xoff(j + 1); c++) {
       const int i = xnb(c);
-      const double q = qtw(i, 0);
-      if (!(q > 0.0)) continue;
+      if (!(qtw(i, 0) > 0.0)) continue;
       double r2 = 0.0;
-      for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - xj[k]) * (av.x(i, k) - xj[k]);
+      for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - av.x(j, k)) * (av.x(i, k) - av.x(j, k));
       const double w = tool_heat_weight(kern, dim, r2, hij(av.type(i) * ntp + av.type(j)));
-      if (w > 0.0) p += q * w;
+      if (w > 0.0) p += qtw(i, 0) * w;
     }
     if (!(p > 0.0) || !(av.mask(j) & hb)) return;
     const double m = use_rmass ? av.rmass(j) : av.mass(av.type(j));
