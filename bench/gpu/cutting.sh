@@ -417,7 +417,8 @@ peer() {
     tag=$(echo "${set:-default}" | tr -c 'a-zA-Z0-9.\n' '_')
     mkdir -p $W/peer$ny/s-$tag && cd $W/peer$ny/s-$tag
     t0=$(date +%s.%N)
-    timeout 580 "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var cut 0.907e-3 -var thermoevery 10000 -var printevery 100 \
+    # the example's defaults (under /kk printevery 100 and neighevery 10: both auto)
+    timeout 580 "$BIN" $GPUK -in "$EX2" -var ny $ny -var cut 0.907e-3 -var thermoevery 10000 \
       -var dumpevery 0 $args -log log.cutting > screen 2>&1 || tail -3 screen
     local w; w=$(awk -v a="$(date +%s.%N)" -v b=$t0 'BEGIN{print a - b}')
     local ff; ff=$(awk '!/^#/ && $3 >= 0.3 {n++; fc += $4; ft += $5} END{printf "Fc %.1f Ft %.1f N/mm over 0.3-0.907 mm (%d rows)", fc / n, ft / n, n}' forces.dat)
