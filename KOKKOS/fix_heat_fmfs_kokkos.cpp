@@ -62,6 +62,31 @@ static_assert(NWCOL % 2 == 0 && (FW0 + 1) % 2 == 0, "FMFS weights not 16-byte al
 // instead of pieces of x, mask, type, mass and the 49-column state row
 enum HeatRow { HR_X = 0, HR_TYPE = 3, HR_VOL = 4, HR_T = 5, NHR = 6 };
 static_assert(NHR % 2 == 0, "heat rows not 16-byte multiples");
+
+// a pass's reduction of N sums whose final, once after every particle, updates the losses on the
+// device (FixHeatFMFSKokkos::d_loss): body(ii, r) per list entry, fin(r) at the end
+template <class DeviceType, int N, class Body, class Fin> struct FinalSums {
+  typedef DeviceType device_type;
+  typedef double value_type[];
+  const unsigned value_count = N;
+  Body body;
+  Fin fin;
+  FinalSums(const Body &b, const Fin &f) : body(b), fin(f) {}
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const
+  {
+    for (int k = 0; k < N; k++) r[k] = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  {
+    for (int k = 0; k < N; k++) d[k] += s[k];
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type r) const { body(ii, r); }
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const { fin(r); }
+};
+template <class DeviceType, int N, class Body, class Fin> FinalSums<DeviceType, N, Body, Fin> final_sums(Body b, Fin f)
+{
+  return FinalSums<DeviceType, N, Body, Fin>(b, f);
+}
 }    // namespace
 
 template <class DeviceType>
@@ -145,6 +170,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(doubl
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 {
   check_timestep();
+  push_losses();
   if (!dir_bits.empty()) {
     set_dirichlet();    // Dirichlet particles start at their temperature
     sphcut::forward_comm(comm, fix);
@@ -159,6 +185,17 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
   // an evaluation step computes the held rate HELD; fix sph/jc-thermal/kk's corrector adds it to the
   // temperature rate (sphcut::add_held_rate, set_heat_rules), so other steps launch nothing here
   const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
+  // the trapezoid of the losses over the step (FixHeatFMFS::post_force: dt/2 of the last step's
+  // rates and dt/2 of this one's), kept as weights: an evaluation's final adds the rates it
+  // replaces times their weight (this step's half included) to the device's sums
+  const double hdt = update->setupflag ? 0.0 : 0.5 * update->dt;
+  if (eval) {
+    replaced_weight = loss_weight + hdt;
+    loss_weight = hdt;
+    losses_stale = 1;
+  } else {
+    loss_weight += 2.0 * hdt;
+  }
   if (eval) {
     begin_evaluation();
     sphcut::FencedTimer timer(cpu_time);
@@ -174,12 +211,44 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
     }
     if (update->setupflag) add_held();    // (no corrector follows the setup)
   }
-  if (!update->setupflag) {
-    q_conv += 0.5 * update->dt * (p_conv_prev + held_conv);
-    q_rad += 0.5 * update->dt * (p_rad_prev + held_rad);
+}
+
+// the host's budget, rates and counters to the device (the setup: restart files, earlier runs)
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::push_losses()
+{
+  if ((int) d_loss.extent(0) != NLOSS) {
+    d_loss = Kokkos::View<double *, typename DeviceType::memory_space>("heat/fmfs:loss", NLOSS);
+    d_red = Kokkos::View<double *, typename DeviceType::memory_space>("heat/fmfs:red", NLOSS);
   }
-  p_conv_prev = held_conv;
-  p_rad_prev = held_rad;
+  auto h = Kokkos::create_mirror_view(d_loss);
+  h(L_CONV) = held_conv;
+  h(L_RAD) = held_rad;
+  h(L_QCONV) = q_conv;
+  h(L_QRAD) = q_rad;
+  h(L_NFMFS) = h(L_NBROOK) = h(L_NFALL) = 0.0;
+  Kokkos::deep_copy(d_loss, h);
+  count_base[0] = n_fmfs;
+  count_base[1] = n_brookshaw;
+  count_base[2] = n_fallback;
+  loss_weight = 0.0;
+  losses_stale = 0;
+}
+
+// the host's budget, rates and counters from the device: the sums of the replaced rates plus the
+// current rates times the time they have acted for
+template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_losses()
+{
+  if ((int) d_loss.extent(0) != NLOSS) return;    // (no run yet)
+  auto h = Kokkos::create_mirror_view(d_loss);
+  Kokkos::deep_copy(h, d_loss);
+  held_conv = p_conv_prev = h(L_CONV);
+  held_rad = p_rad_prev = h(L_RAD);
+  q_conv = h(L_QCONV) + loss_weight * h(L_CONV);
+  q_rad = h(L_QRAD) + loss_weight * h(L_RAD);
+  n_fmfs = count_base[0] + (bigint) h(L_NFMFS);
+  n_brookshaw = count_base[1] + (bigint) h(L_NBROOK);
+  n_fallback = count_base[2] + (bigint) h(L_NFALL);
+  losses_stale = 0;
 }
 
 // FixHeatFMFS::begin_evaluation with the compute's values on the device
@@ -313,13 +382,16 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
   const double flam = fmfs_lambda;
   const sphcut::HeatLosses hl = losses();
-  double pc = 0.0, pr = 0.0, nf = 0.0, nb = 0.0, nfb = 0.0;
+  auto loss = d_loss;
+  const double wr = replaced_weight;
 
   Kokkos::parallel_for("sphcut:heat:zero_held_pp",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
+  // (sums: the convective and radiative loss rates, the three scheme counters)
   Kokkos::parallel_reduce("sphcut:heat:per_particle",
       sphcut::range<DeviceType>(0, list->inum),
-      KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad, double &c_fmfs, double &c_brook, double &c_fall) {
+      final_sums<DeviceType, 5>(KOKKOS_LAMBDA(const int ii, double *r) {
+        double &p_conv = r[0], &p_rad = r[1], &c_fmfs = r[2], &c_brook = r[3], &c_fall = r[4];
         const int i = d.av.ilist(ii);
         if (!(d.av.mask(i) & gb)) return;
         const int itype = d.av.type(i);
@@ -334,14 +406,17 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
-      },
-      pc, pr, nf, nb, nfb);
+      }, KOKKOS_LAMBDA(const double *r) {
+        loss(L_QCONV) += wr * loss(L_CONV);
+        loss(L_QRAD) += wr * loss(L_RAD);
+        loss(L_CONV) = r[0];
+        loss(L_RAD) = r[1];
+        loss(L_NFMFS) += r[2];
+        loss(L_NBROOK) += r[3];
+        loss(L_NFALL) += r[4];
+      }),
+      Kokkos::subview(d_red, std::make_pair(0, 5)));
   fixkk->k_state.template modify<DeviceType>();
-  held_conv = pc;
-  held_rad = pr;
-  n_fmfs += (bigint) nf;
-  n_brookshaw += (bigint) nb;
-  n_fallback += (bigint) nfb;
 }
 
 /* the conservative form (FixHeatFMFS::conduction_conservative): the scheme pass, the device
@@ -378,7 +453,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
   auto mat = d_mat;
   const int gb = groupbit, has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
   const double flam = fmfs_lambda, thr = surfkk ? surfkk->threshold : 0.0;
-  double nf = 0.0, nb = 0.0, nfb = 0.0;
+  auto loss = d_loss;
   // every local particle's weight flag and surface values are cleared before they are set: in
   // the pass itself when its list holds every local particle (the ghosts take theirs from the
   // forward communication after it), else in kernels of their own first
@@ -392,9 +467,11 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
             for (int k = 0; k < CS::NCOLS; k++) surf(i, k) = 0.0;
           });
   }
+  // (sums: the three scheme counters)
   Kokkos::parallel_reduce("sphcut:heat:weights",
       sphcut::range<DeviceType>(0, list->inum),
-      KOKKOS_LAMBDA(const int ii, double &c_fmfs, double &c_brook, double &c_fall) {
+      final_sums<DeviceType, 3>(KOKKOS_LAMBDA(const int ii, double *r) {
+        double &c_fmfs = r[0], &c_brook = r[1], &c_fall = r[2];
         const int i = d.av.ilist(ii);
         if (clear) {
           fw(i, FW0) = 0.0;
@@ -419,13 +496,14 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
           fw(i, FW0) = 1.0;
         }
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
-      },
-      nf, nb, nfb);
+      }, KOKKOS_LAMBDA(const double *r) {
+        loss(L_NFMFS) += r[0];
+        loss(L_NBROOK) += r[1];
+        loss(L_NFALL) += r[2];
+      }),
+      Kokkos::subview(d_red, std::make_pair(0, 3)));
   k_fwts.template modify<DeviceType>();
   if (fuse) surfkk->k_out.template modify<DeviceType>();
-  n_fmfs += (bigint) nf;
-  n_brookshaw += (bigint) nb;
-  n_fallback += (bigint) nfb;
 }
 
 /* 2. the pairwise exchange (sphcut::heat_exchange, each pair from both sides: nothing to
@@ -441,16 +519,19 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
   auto mat = d_mat;
   const int gb = groupbit, use_rmass = atom->rmass_flag, has_surf = surfkk != nullptr;
   const sphcut::HeatLosses hl = losses();
-  double pc = 0.0, pr = 0.0;
+  auto loss = d_loss;
+  const double wr = replaced_weight;
   // the held rate of every local particle is set: by the pass itself when its list holds every
   // local particle, else cleared first in a kernel of its own
   const int clear = list->inum == atom->nlocal;
   if (!clear)
     Kokkos::parallel_for("sphcut:heat:zero_held",
         sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
+  // (sums: the convective and radiative loss rates)
   Kokkos::parallel_reduce("sphcut:heat:exchange",
       sphcut::range<DeviceType>(0, list->inum),
-      KOKKOS_LAMBDA(const int ii, double &p_conv, double &p_rad) {
+      final_sums<DeviceType, 2>(KOKKOS_LAMBDA(const int ii, double *r) {
+        double &p_conv = r[0], &p_rad = r[1];
         const int i = d.av.ilist(ii);
         if (clear) d.av.st(i, F::HELD) = 0.0;
         if (!(d.av.mask(i) & gb)) return;
@@ -464,11 +545,14 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
-      },
-      pc, pr);
+      }, KOKKOS_LAMBDA(const double *r) {
+        loss(L_QCONV) += wr * loss(L_CONV);
+        loss(L_QRAD) += wr * loss(L_RAD);
+        loss(L_CONV) = r[0];
+        loss(L_RAD) = r[1];
+      }),
+      Kokkos::subview(d_red, std::make_pair(0, 2)));
   fixkk->k_state.template modify<DeviceType>();
-  held_conv = pc;
-  held_rad = pr;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -549,12 +633,14 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_dirichlet(
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::write_restart(FILE *fp)
 {
   fetch_dirichlet();
+  fetch_losses();
   FixHeatFMFS::write_restart(fp);
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_run()
 {
   fetch_dirichlet();
+  fetch_losses();
   FixHeatFMFS::post_run();
 }
 
@@ -562,6 +648,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_run()
 template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::compute_vector(int n)
 {
   fetch_dirichlet();
+  if (n != 4) fetch_losses();
   if (n != 4 || !fixkk) return FixHeatFMFS::compute_vector(n);
   atomKK->sync(execution_space, MASK_MASK | TYPE_MASK | RMASS_MASK);
   fixkk->k_state.template sync<DeviceType>();

@@ -82,6 +82,20 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   // the CPU fix's dt_limit sees at end_of_step) when the step is adaptive (heat_slot_step,
   // heat_slot_F there: the step and thermal Courant number of the limit)
   void fetch_dirichlet();
+  // the loss rates of the last evaluation, the convective and radiative heat of the budget and the
+  // scheme counters stay on the device during a run (d_loss): the passes' reductions write them in
+  // their final, so that an evaluation makes no host round trip.  The host keeps the time the
+  // current rates have acted for (loss_weight: the trapezoid's weight, FixHeatFMFS::post_force);
+  // fetch_losses forms q_conv, q_rad, held_conv, held_rad and the counters from them when it needs
+  // them (output, restart, end of run); push_losses hands the host's values over at the setup
+  enum LossSlot { L_CONV = 0, L_RAD, L_QCONV, L_QRAD, L_NFMFS, L_NBROOK, L_NFALL, NLOSS };
+  Kokkos::View<double *, typename DeviceType::memory_space> d_loss, d_red;    // (d_red: the reductions' result)
+  double loss_weight = 0.0;     // the time the current rates have acted for since the device's last sum
+  double replaced_weight = 0.0;    // the weight the rates an evaluation replaces still take (its final)
+  bigint count_base[3] = {0, 0, 0};    // n_fmfs, n_brookshaw, n_fallback at the last push
+  int losses_stale = 0;
+  void push_losses();
+  void fetch_losses();
 };
 
 }    // namespace LAMMPS_NS
