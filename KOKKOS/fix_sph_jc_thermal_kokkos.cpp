@@ -644,12 +644,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   atomKK->modified(execution_space, V_MASK);
 }
 
-/* the pair's rows of the local particles may be packed in initial_integrate when nothing changes
-   what they hold (positions, VEST, RHO_F, TEMP_F, SF, mask, type, mass) between that kernel and
-   the pair: no fix of another kind has initial_integrate after this one, post_integrate or
-   pre_force (the sphcut styles attached to this fix have none that touches those; a step with
-   reneighbouring, where the atoms may move in the arrays, the pair packs in full anyway) */
-template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::prepack_allowed() const
+/* whether the other fixes leave the atoms' data alone between this fix's initial_integrate and
+   the pair: no fix of another kind (the sphcut styles attached to this fix touch none of it) has
+   post_integrate, initial_integrate after this one, or pre_force (any; with before_only, one
+   before this one) */
+template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::others_keep_out(bool before_only) const
 {
   int self = -1;
   for (int i = 0; i < modify->nfix; i++) {
@@ -659,20 +658,30 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::prepack_allo
     }
     if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) continue;
     const int m = modify->fmask[i];
-    if ((m & FixConst::POST_INTEGRATE) || (m & FixConst::PRE_FORCE) || ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
+    if ((m & FixConst::POST_INTEGRATE) || ((m & FixConst::PRE_FORCE) && (!before_only || self < 0)) ||
+        ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
       return false;
   }
   return true;
+}
+
+/* the pair's rows of the local particles may be packed in initial_integrate when nothing changes
+   what they hold (positions, VEST, RHO_F, TEMP_F, SF, mask, type, mass) between that kernel and
+   the pair (others_keep_out; a step with reneighbouring, where the atoms may move in the arrays,
+   the pair packs in full anyway) */
+template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::prepack_allowed() const
+{
+  return others_keep_out(false);
 }
 
 /* this fix may zero the forces itself (clear_f), in initial_integrate after the half kick and in
    pre_force after a reneighbouring, when that is all LAMMPS' force clear (VerletKokkos::force_clear)
    would do and nothing reads or writes the forces in between: the Verlet integrator, newton off
    (the ghosts' forces are then not cleared either), no kspace or bonded terms (VerletKokkos may
-   merge forces computed on the host), no torque or extra force arrays, no
-   neigh_modify include group; no fix of another kind has initial_integrate after this one (it
-   would read zeroed forces), post_integrate (its forces would survive), or pre_force before this
-   one (pre_force's zeroing after a reneighbouring would erase its forces) */
+   merge forces computed on the host), no torque or extra force arrays, no neigh_modify include
+   group; others_keep_out, where a pre_force after this fix may stay (it comes after pre_force's
+   zeroing): a later initial_integrate would read zeroed forces, a post_integrate's forces would
+   survive, an earlier pre_force's would be erased after a reneighbouring */
 template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::force_clear_allowed() const
 {
   if (!utils::strmatch(update->integrate_style, "^verlet") || utils::strmatch(update->integrate_style, "^verlet/split"))
@@ -680,19 +689,7 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::force_clear_
   if (force->newton || force->kspace || atom->molecular || atom->torque_flag || atom->avec->forceclearflag ||
       neighbor->includegroup)
     return false;
-  int self = -1;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == this) {
-      self = i;
-      continue;
-    }
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) continue;
-    const int m = modify->fmask[i];
-    if ((m & FixConst::POST_INTEGRATE) || ((m & FixConst::PRE_FORCE) && self < 0) ||
-        ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
-      return false;
-  }
-  return true;
+  return others_keep_out(true);
 }
 
 /* fix contact/tri-penalty/kk's tool-heat gather (sphcut_tool_heat_kokkos.h) of this step, applied by

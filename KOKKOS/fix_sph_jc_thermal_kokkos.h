@@ -144,6 +144,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   PairSPHJCThermalKokkos<DeviceType> *pairkk = nullptr;    // the pair on this device type (init)
   int prepack = 0;    // its local rows packed in initial_integrate (init: SPHCUT_PAIR_PREPACK, prepack_allowed)
   bool prepack_allowed() const;
+  bool others_keep_out(bool before_only) const;
   // the forces zeroed in initial_integrate's kernel, after the half kick has read them, and in
   // pre_force's after a reneighbouring, instead of LAMMPS' own launch (Verlet's external_force_clear,
   // set from setup to post_run; init: SPHCUT_FORCE_CLEAR, force_clear_allowed)
