@@ -227,6 +227,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::push_losses()
   h(L_QRAD) = q_rad;
   h(L_NFMFS) = h(L_NBROOK) = h(L_NFALL) = 0.0;
   Kokkos::deep_copy(d_loss, h);
+  for (int k = 0; k < NLOSS; k++) loss_host[k] = h(k);
   count_base[0] = n_fmfs;
   count_base[1] = n_brookshaw;
   count_base[2] = n_fallback;
@@ -234,21 +235,25 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::push_losses()
   losses_stale = 0;
 }
 
-// the host's budget, rates and counters from the device: the sums of the replaced rates plus the
-// current rates times the time they have acted for
+// the host's budget, rates and counters from the device (copied only when an evaluation ran
+// since): the sums of the replaced rates plus the current rates times the time they have acted for
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_losses()
 {
   if ((int) d_loss.extent(0) != NLOSS) return;    // (no run yet)
-  auto h = Kokkos::create_mirror_view(d_loss);
-  Kokkos::deep_copy(h, d_loss);
-  held_conv = p_conv_prev = h(L_CONV);
-  held_rad = p_rad_prev = h(L_RAD);
-  q_conv = h(L_QCONV) + loss_weight * h(L_CONV);
-  q_rad = h(L_QRAD) + loss_weight * h(L_RAD);
-  n_fmfs = count_base[0] + (bigint) h(L_NFMFS);
-  n_brookshaw = count_base[1] + (bigint) h(L_NBROOK);
-  n_fallback = count_base[2] + (bigint) h(L_NFALL);
-  losses_stale = 0;
+  if (losses_stale) {
+    auto h = Kokkos::create_mirror_view(d_loss);
+    Kokkos::deep_copy(h, d_loss);
+    for (int k = 0; k < NLOSS; k++) loss_host[k] = h(k);
+    losses_stale = 0;
+  }
+  const double *h = loss_host;
+  held_conv = p_conv_prev = h[L_CONV];
+  held_rad = p_rad_prev = h[L_RAD];
+  q_conv = h[L_QCONV] + loss_weight * h[L_CONV];
+  q_rad = h[L_QRAD] + loss_weight * h[L_RAD];
+  n_fmfs = count_base[0] + (bigint) h[L_NFMFS];
+  n_brookshaw = count_base[1] + (bigint) h[L_NBROOK];
+  n_fallback = count_base[2] + (bigint) h[L_NFALL];
 }
 
 // FixHeatFMFS::begin_evaluation with the compute's values on the device

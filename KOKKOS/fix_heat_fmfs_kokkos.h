@@ -93,7 +93,8 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   double loss_weight = 0.0;     // the time the current rates have acted for since the device's last sum
   double replaced_weight = 0.0;    // the weight the rates an evaluation replaces still take (its final)
   bigint count_base[3] = {0, 0, 0};    // n_fmfs, n_brookshaw, n_fallback at the last push
-  int losses_stale = 0;
+  double loss_host[NLOSS] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};    // d_loss as last copied
+  int losses_stale = 0;    // an evaluation ran since (d_loss differs from loss_host)
   void push_losses();
   void fetch_losses();
 };

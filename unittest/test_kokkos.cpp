@@ -922,6 +922,38 @@ TEST(KokkosThermal, ForcesClearedInTheFirstHalf)
   expect_same_cut_end(end2[1], end2[0]);
 }
 
+// fix heat/fmfs/kk keeps its loss rates, the convective and radiative heat and the scheme counters
+// on the device during a run (its reductions' final writes them; the host forms the budget when it
+// is read, from the time the current rates have acted for): the 2D cut run as 300 + 300 steps
+// (the budget read between the runs, handed back at the second setup) gives the budget of one run
+// of 600 steps; both are those of the CPU styles (to round-off: the sums are formed in another order)
+TEST(KokkosThermal, HeatBudgetAcrossRuns)
+{
+  auto budget = [](const std::vector<std::string> &args, int first, int second) {
+    Lammps l(MPI_COMM_WORLD, args);
+    for (auto &v : {std::string("ny index 11"), std::string("xstart index 0.6"), std::string("dumpevery index 0"),
+                    std::string("printevery index 10"), "steps index " + std::to_string(first)})
+      l.cmd("variable " + v);
+    l.lmp->input->file(CUT2D.c_str());
+    std::vector<double> b;
+    if (second > 0) {
+      b.push_back(l.equal("f_heat[1]"));    // read between the runs
+      l.cmd("run " + std::to_string(second));
+    }
+    for (int k : {1, 2, 6}) b.push_back(l.equal("f_heat[" + std::to_string(k) + "]"));
+    return b;
+  };
+  const auto split = budget(KK_FULL, 300, 300), whole = budget(KK_FULL, 600, 0), cpu = budget({}, 600, 0);
+  std::printf("[ budget   ] convection %.15g / %.15g / CPU %.15g J, radiation %.15g / %.15g / %.15g J, FMFS %.6f\n",
+              split[1], whole[0], cpu[0], split[2], whole[1], cpu[1], whole[2]);
+  EXPECT_GT(split[0], 0.0);
+  EXPECT_GT(split[1], 2.0 * split[0]);    // the second run added to the first's
+  for (int k = 0; k < 3; k++) {
+    EXPECT_NEAR(split[k + 1], whole[k], 3e-14 * fabs(whole[k])) << k;
+    EXPECT_NEAR(whole[k], cpu[k], 1.5e-12 * fabs(cpu[k])) << k;
+  }
+}
+
 // output steps under /kk: fix sph/jc-thermal/kk copies the output columns of the state to the
 // host (the dumps' and f_ID[k]'s, which the example's rake temperature reads every printevery
 // steps), and fix print and fix halt no longer declare every atom array modified on the host (a
