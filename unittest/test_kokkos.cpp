@@ -926,7 +926,8 @@ TEST(KokkosThermal, ForcesClearedInTheFirstHalf)
 // on the device during a run (its reductions' final writes them; the host forms the budget when it
 // is read, from the time the current rates have acted for): the 2D cut run as 300 + 300 steps
 // (the budget read between the runs, handed back at the second setup) gives the budget of one run
-// of 600 steps; both are those of the CPU styles (to round-off: the sums are formed in another order)
+// of 600 steps (within 6e-14); both are those of the CPU styles (within 4e-13: the sums are formed
+// in another order)
 TEST(KokkosThermal, HeatBudgetAcrossRuns)
 {
   auto budget = [](const std::vector<std::string> &args, int first, int second) {
@@ -948,8 +949,11 @@ TEST(KokkosThermal, HeatBudgetAcrossRuns)
               split[1], whole[0], cpu[0], split[2], whole[1], cpu[1], whole[2]);
   EXPECT_GT(split[0], 0.0);
   EXPECT_GT(split[1], 2.0 * split[0]);    // the second run added to the first's
+  // (two runs of one input on 2 threads differ by up to 3e-14 on one rank and 6e-14 on two: the
+  // contact's heat sums are atomics)
+  const double rtol = 2e-13;
   for (int k = 0; k < 3; k++) {
-    EXPECT_NEAR(split[k + 1], whole[k], 3e-14 * fabs(whole[k])) << k;
+    EXPECT_NEAR(split[k + 1], whole[k], rtol * fabs(whole[k])) << k;
     EXPECT_NEAR(whole[k], cpu[k], 1.5e-12 * fabs(cpu[k])) << k;
   }
 }
