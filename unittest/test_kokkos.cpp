@@ -1029,6 +1029,21 @@ TEST(KokkosThermal, ContactEvaluatesTheParticlesNearTheTool)
   expect_same_cut_end(end[1], end[0]);
 }
 
+// the 2D example under /kk with its defaults (printevery 0: every 100 steps; neighevery 0: every 10)
+// and -var steps 30: the run goes to step 100, a multiple of printevery, with a note (its last
+// step's output reads per-atom values computed every printevery steps: 30 had ended in LAMMPS'
+// "not computed at compatible time" error)
+TEST(KokkosThermal, ExampleStepsRoundedToTheOutputInterval)
+{
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  for (auto &v : {"xstart index 3", "steps index 30", "ny index 11", "dumpevery index 0"})
+    l.cmd(std::string("variable ") + v);
+  l.lmp->input->file(CUT2D.c_str());
+  EXPECT_EQ(l.lmp->update->ntimestep, 100);
+  EXPECT_EQ(l.equal("v_printevery"), 100.0);
+  EXPECT_EQ(l.lmp->neighbor->every, 10);
+}
+
 // the benchmarks' switch of the contact fix (SPHCUT_GATHER_FOLD: the tool-heat gather's own kernel):
 // anything but 0 or 1 is refused by name
 TEST(KokkosThermal, GatherFoldSwitchChecked)
