@@ -58,7 +58,6 @@
 #include "kokkos.h"
 #include "force.h"
 #include "atom_vec.h"
-#include "integrate.h"
 #include "memory_kokkos.h"
 #include "modify.h"
 #include "neighbor.h"
@@ -80,13 +79,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 namespace {
-
-// the integrator's flag that it leaves the force clear to someone else (Integrate's protected
-// external_force_clear, which LAMMPS' OpenMP package sets from inside Verlet::init), reached
-// through a member pointer named in a derived class
-struct IntegrateForceClear : Integrate {
-  static int &flag(Integrate *in) { return in->*(&IntegrateForceClear::external_force_clear); }
-};
 
 /* second half of the step with the two sums the host needs: the plastic
    work of the step and this rank's Courant limit (computed from the final
@@ -361,8 +353,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vf
   // from here to post_run the forces are zeroed by this fix's kernels (force_clear_allowed); the
   // setup's own were cleared by LAMMPS before its forces
   if (clear_f && !clear_f_active) {
-    saved_force_clear = IntegrateForceClear::flag(update->integrate);
-    IntegrateForceClear::flag(update->integrate) = 1;
+    saved_force_clear = sphcut::IntegrateForceClear::flag(update->integrate);
+    sphcut::IntegrateForceClear::flag(update->integrate) = 1;
     clear_f_active = 1;
   }
   // the device continues the host's plastic work (restart, earlier runs)
@@ -766,7 +758,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
     grow_callback = 1;
   }
   if (clear_f_active) {
-    IntegrateForceClear::flag(update->integrate) = saved_force_clear;    // setups and other runs clear as before
+    sphcut::IntegrateForceClear::flag(update->integrate) = saved_force_clear;    // setups and other runs clear as before
     clear_f_active = 0;
   }
   FixSPHJCThermal::post_run();

@@ -10,6 +10,7 @@
 #include "kokkos_type.h"
 #include "lammps.h"
 #include "error.h"
+#include "integrate.h"
 #include "neigh_request.h"
 #include "neighbor.h"
 #include "atom_kokkos.h"
@@ -122,6 +123,14 @@ template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
   return Kokkos::Experimental::require(Kokkos::RangePolicy<DeviceType, bounds>(begin, end),
                                        Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
+
+// the integrator's flag that it leaves the force clear to someone else (Integrate's protected
+// external_force_clear, which LAMMPS' OpenMP package sets from inside Verlet::init), reached
+// through a member pointer named in a derived class: fix sph/jc-thermal/kk sets it from its setup
+// to post_run (force_clear_allowed), the tests read it
+struct IntegrateForceClear : LAMMPS_NS::Integrate {
+  static int &flag(LAMMPS_NS::Integrate *in) { return in->*(&IntegrateForceClear::external_force_clear); }
+};
 
 // a 0/1 switch of the environment for the benchmarks' A/B runs (bench/gpu/cutting.sh envab): def
 // when unset or empty, an error naming the variable and its value for anything but 0 or 1

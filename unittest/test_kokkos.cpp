@@ -11,7 +11,6 @@
 #include "atom_masks.h"
 #include "fix.h"
 #include "input.h"
-#include "integrate.h"
 #include "modify.h"
 #include "neighbor.h"
 #include "update.h"
@@ -875,11 +874,6 @@ TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
   expect_same_cut_end(end[1], end[0]);
 }
 
-// the integrator's flag that the forces are cleared by someone else (protected in Integrate)
-struct IntegrateForceClear : LAMMPS_NS::Integrate {
-  static int flag(LAMMPS_NS::Integrate *in) { return in->*(&IntegrateForceClear::external_force_clear); }
-};
-
 // LAMMPS' launch of its force clear (the Zero functor) outside the setups
 int zero_launches()
 {
@@ -904,7 +898,7 @@ TEST(KokkosThermal, ForcesClearedInTheFirstHalf)
     const auto l = counted_cut("0.6", steps, "SPHCUT_FORCE_CLEAR", fused ? "1" : "0");
     zeros[fused] = zero_launches();
     end[fused] = cut_end(*l);
-    EXPECT_EQ(IntegrateForceClear::flag(l->lmp->update->integrate), 0);    // restored at post_run
+    EXPECT_EQ(sphcut::IntegrateForceClear::flag(l->lmp->update->integrate), 0);    // restored at post_run
     setenv("SPHCUT_FORCE_CLEAR", fused ? "1" : "0", 1);
     l->cmd("atom_modify sort 10 0.0");
     l->cmd("neigh_modify every 1 delay 0 check no");
