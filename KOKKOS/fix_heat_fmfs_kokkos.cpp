@@ -247,8 +247,8 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_losses()
     losses_stale = 0;
   }
   const double *h = loss_host;
-  held_conv = p_conv_prev = h[L_CONV];
-  held_rad = p_rad_prev = h[L_RAD];
+  held_conv = h[L_CONV];
+  held_rad = h[L_RAD];
   q_conv = h[L_QCONV] + loss_weight * h[L_CONV];
   q_rad = h[L_QRAD] + loss_weight * h[L_RAD];
   n_fmfs = count_base[0] + (bigint) h[L_NFMFS];
