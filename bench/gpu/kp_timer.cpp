@@ -227,11 +227,10 @@ struct Kokkos_Tools_ToolSettings {
   bool requires_global_fencing;
   bool padding[255];
 };
+// (Kokkos asks after kokkosp_init_library, which has read KP_TIMER_SYNC into sync)
 void kokkosp_request_tool_settings(const uint32_t, Kokkos_Tools_ToolSettings *settings)
 {
-  const char *e = getenv("KP_TIMER_SYNC");
-  const bool unsynchronised = e && (strcmp(e, "0") == 0 || strcmp(e, "events") == 0 || strcmp(e, "host") == 0);
-  settings->requires_global_fencing = !unsynchronised;
+  settings->requires_global_fencing = sync;
 }
 
 void kokkosp_init_library(const int, const uint64_t, const uint32_t, void *)
