@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Fix 6 of tools/build-deps.sh: LAMMPS 29Sep2021's Kokkos forward communication on several ranks
-with an MPI that is not GPU-aware, packed on the device and staged through the host.
+"""Fixes 6 and 7 of tools/build-deps.sh: LAMMPS 29Sep2021's Kokkos communication on several ranks
+with an MPI that is not GPU-aware, packed on the device and staged through the host: the forward
+communication of every step (fix 6), the exchange and the borders of every reneighbouring (fix 7).
 
 Usage: lammps-staged-comm.py FILE...   (LAMMPS' src/KOKKOS/kokkos.cpp and/or comm_kokkos.cpp,
 patched in place, each by its name; a file already patched is left alone)
@@ -16,26 +17,36 @@ comm_kokkos.cpp  CommKokkos::forward_comm_device packs on the device, copies the
                  AtomVecKokkos::unpack_comm_kokkos, reads its buffer with the border shape, not with
                  the (n/3, 3) shape the pack wrote: compiled with SPHCUT_FIX6_UNPACK_X it is used
                  instead, the negative control of the test test_migrate_np2_staged)
+                 (fix 6).  CommKokkos::exchange_device and borders_device (fix 7) likewise: the
+                 leaving atoms and the border atoms packed on the device, only the messages copied
+                 to the host and back.  Without fix 7 LAMMPS exchanged on the host: every atom
+                 array to the host and back at every reneighbouring.  A fix with per-atom data
+                 that registers a grow or border callback still sends LAMMPS to its classic
+                 exchange (fix sph/jc-thermal/kk with migrate device has none during a run)
 kokkos.cpp       the device paths stay on for the forward communication of the positions, of pairs
-                 and of fixes (the latter two already stage through the host when gpu/aware is off);
-                 exchange and borders (at reneighbouring) stay classic.  SPHCUT_LAMMPS_CLASSIC_FORWARD
-                 in the environment restores LAMMPS' own choice: "1" for all three, or a list of
-                 pos, pair, fix (the baselines of bench/gpu/multigpu.sh).
+                 and of fixes (the latter two already stage through the host when gpu/aware is off)
+                 and for the exchange and borders.  SPHCUT_LAMMPS_CLASSIC_FORWARD in the environment
+                 restores LAMMPS' own choice: "1" for all four, or a list of pos, pair, fix,
+                 exchange (the baselines of bench/gpu/multigpu.sh).
 """
 import os
 import sys
 
 MARK = "sphcut fix 6"
+MARK7 = "sphcut fix 7"
 
 
 def patch_kokkos(k):
     for what, old in (("pos", "if (forward_comm_classic == 0 && forward_comm_on_host == 0) {\n"
                               "      forward_comm_classic = 1;"),
                       ("pair", "if (forward_pair_comm_classic == 0) {\n      forward_pair_comm_classic = 1;"),
-                      ("fix", "if (forward_fix_comm_classic == 0) {\n      forward_fix_comm_classic = 1;")):
+                      ("fix", "if (forward_fix_comm_classic == 0) {\n      forward_fix_comm_classic = 1;"),
+                      ("exchange", "if (exchange_comm_classic == 0 && exchange_comm_on_host == 0) {\n"
+                                   "      exchange_comm_classic = 1;")):
         if k.count(old) != 1:
             sys.exit("fix 6: kokkos.cpp: '%s' not found once" % old.split("\n")[0])
-        k = k.replace(old, old.replace("if (", "if (sphcut_classic(\"%s\") /* %s */ && " % (what, MARK), 1), 1)
+        mark = MARK7 if what == "exchange" else MARK
+        k = k.replace(old, old.replace("if (", "if (sphcut_classic(\"%s\") /* %s */ && " % (what, mark), 1), 1)
     old = "  if ((!gpu_aware_flag && nmpi > 1) || pair_only_flag) {\n"
     if k.count(old) != 1:
         sys.exit("fix 6: kokkos.cpp: the gpu/aware off block not found once")
@@ -93,11 +104,96 @@ STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
 """
 
 
+# fix 7: the messages of exchange_device (the leaving atoms, along each dimension to one or both
+# neighbours) and of borders_device (the border atoms of a swap)
+MSG_TYPES = """typedef Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged> HostMsg;
+        typedef Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged> DevMsg;"""
+
+EXCHANGE_OLD = """        MPI_Irecv(k_buf_recv.view<DeviceType>().data(),nrecv1,
+                  MPI_DOUBLE,procneigh[dim][1],0,
+                  world,&request);
+        MPI_Send(k_buf_send.view<DeviceType>().data(),nsend,
+                 MPI_DOUBLE,procneigh[dim][0],0,world);
+        MPI_Wait(&request,MPI_STATUS_IGNORE);
+
+        if (procgrid[dim] > 2) {
+          MPI_Irecv(k_buf_recv.view<DeviceType>().data()+nrecv1,
+                    nrecv2,MPI_DOUBLE,procneigh[dim][0],0,
+                    world,&request);
+          MPI_Send(k_buf_send.view<DeviceType>().data(),nsend,
+                   MPI_DOUBLE,procneigh[dim][1],0,world);
+          MPI_Wait(&request,MPI_STATUS_IGNORE);
+        }
+"""
+
+EXCHANGE_NEW = """        // sphcut fix 7: MPI without GPU support: the messages staged through the host halves of
+        // the buffers (only the doubles sent and received)
+        const bool staged = !lmp->kokkos->gpu_aware_flag;
+        """ + MSG_TYPES + """
+        double *sbuf = staged ? k_buf_send.h_view.data() : k_buf_send.view<DeviceType>().data();
+        double *rbuf = staged ? k_buf_recv.h_view.data() : k_buf_recv.view<DeviceType>().data();
+        if (staged && nsend)
+          Kokkos::deep_copy(HostMsg(k_buf_send.h_view.data(),nsend),
+                            DevMsg(k_buf_send.view<DeviceType>().data(),nsend));
+        MPI_Irecv(rbuf,nrecv1,
+                  MPI_DOUBLE,procneigh[dim][1],0,
+                  world,&request);
+        MPI_Send(sbuf,nsend,
+                 MPI_DOUBLE,procneigh[dim][0],0,world);
+        MPI_Wait(&request,MPI_STATUS_IGNORE);
+
+        if (procgrid[dim] > 2) {
+          MPI_Irecv(rbuf+nrecv1,
+                    nrecv2,MPI_DOUBLE,procneigh[dim][0],0,
+                    world,&request);
+          MPI_Send(sbuf,nsend,
+                   MPI_DOUBLE,procneigh[dim][1],0,world);
+          MPI_Wait(&request,MPI_STATUS_IGNORE);
+        }
+        if (staged && nrecv)
+          Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv),
+                            HostMsg(k_buf_recv.h_view.data(),nrecv));
+"""
+
+BORDERS_OLD = """        if (nrecv) MPI_Irecv(k_buf_recv.view<DeviceType>().data(),
+                             nrecv*size_border,MPI_DOUBLE,
+                             recvproc[iswap],0,world,&request);
+        if (n) MPI_Send(k_buf_send.view<DeviceType>().data(),n,
+                        MPI_DOUBLE,sendproc[iswap],0,world);
+        if (nrecv) MPI_Wait(&request,MPI_STATUS_IGNORE);
+"""
+
+BORDERS_NEW = """        // sphcut fix 7: MPI without GPU support: the messages staged through the host
+        const bool staged = !lmp->kokkos->gpu_aware_flag;
+        """ + MSG_TYPES + """
+        if (staged && n)
+          Kokkos::deep_copy(HostMsg(k_buf_send.h_view.data(),n),
+                            DevMsg(k_buf_send.view<DeviceType>().data(),n));
+        if (nrecv) MPI_Irecv(staged ? k_buf_recv.h_view.data() : k_buf_recv.view<DeviceType>().data(),
+                             nrecv*size_border,MPI_DOUBLE,
+                             recvproc[iswap],0,world,&request);
+        if (n) MPI_Send(staged ? k_buf_send.h_view.data() : k_buf_send.view<DeviceType>().data(),n,
+                        MPI_DOUBLE,sendproc[iswap],0,world);
+        if (nrecv) MPI_Wait(&request,MPI_STATUS_IGNORE);
+        if (staged && nrecv)
+          Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv*size_border),
+                            HostMsg(k_buf_recv.h_view.data(),nrecv*size_border));
+"""
+
+
 def patch_comm(c):
-    old = "      if (sendproc[iswap] != me) {\n        if (comm_x_only) {\n"
-    if c.count(old) != 1:
-        sys.exit("fix 6: comm_kokkos.cpp: forward_comm_device's swap loop not found once")
-    return c.replace(old, STAGED, 1)
+    if MARK not in c:
+        old = "      if (sendproc[iswap] != me) {\n        if (comm_x_only) {\n"
+        if c.count(old) != 1:
+            sys.exit("fix 6: comm_kokkos.cpp: forward_comm_device's swap loop not found once")
+        c = c.replace(old, STAGED, 1)
+    if MARK7 not in c:
+        for what, old, new in (("exchange_device", EXCHANGE_OLD, EXCHANGE_NEW),
+                               ("borders_device", BORDERS_OLD, BORDERS_NEW)):
+            if c.count(old) != 1:
+                sys.exit("fix 7: comm_kokkos.cpp: %s's messages not found once" % what)
+            c = c.replace(old, new, 1)
+    return c
 
 
 def main(paths):
@@ -107,14 +203,16 @@ def main(paths):
         name = os.path.basename(p)
         with open(p) as f:
             s = f.read()
-        if MARK in s:
-            continue
         if name == "kokkos.cpp":
+            if MARK in s:
+                continue
             s = patch_kokkos(s)
         elif name == "comm_kokkos.cpp":
+            if MARK in s and MARK7 in s:
+                continue
             s = patch_comm(s)
         else:
-            sys.exit("fix 6: do not know how to patch %s" % p)
+            sys.exit("fixes 6, 7: do not know how to patch %s" % p)
         with open(p, "w") as f:
             f.write(s)
 

@@ -17,8 +17,10 @@
 #            (default 200) with migrate device and migrate host: particle-steps/s, efficiency
 #            t1 / (N tN), the time per reneighbouring, LAMMPS' timer table (min/avg/max over the
 #            ranks) and the sphcut timing table (max over the ranks) per run
-#   classic  (after strong) its runs on 2 and 4 GPUs with LAMMPS' classic host path for the forward
-#            communication (SPHCUT_LAMMPS_CLASSIC_FORWARD=1), the baseline of fix 6 of tools/build-deps.sh
+#   classic  (after strong) its runs on 2 and 4 GPUs with LAMMPS' classic host path for what
+#            MGPU_CLASSIC names (SPHCUT_LAMMPS_CLASSIC_FORWARD=$MGPU_CLASSIC; default 1: all of the
+#            communication; "exchange": the exchange and borders at each reneighbouring), the
+#            baselines of fixes 6 and 7 of tools/build-deps.sh
 #   weak     the same with NZ x N layers on N GPUs (about 4.1 M particles per GPU): efficiency t1 / tN
 # Settings (environment): MGPU_NP (GPU counts, default "1 2 4"; counts above the machine's GPUs are
 # skipped), MGPU_MIGRATE ("device host"), NZ (232), STEPS (200), REBUILD (reneighbour every this many
@@ -188,7 +190,7 @@ breakdown() {
   local lg=$1
   say "    $(grep '^Loop time' $lg | tail -1)"
   say "    $(grep -E '^Neighbor list builds' $lg | tail -1); $(grep '^sph/jc-thermal/kk migrate device' $lg | tail -1)"
-  grep -m1 -E "GPU-aware|classic exchange" $lg | sed 's/^/      LAMMPS: /' >> "$SUM"
+  { grep -m1 "GPU-aware" $lg; grep -m1 "classic exchange" $lg; } | sed 's/^/      LAMMPS: /' >> "$SUM"
   awk '/^MPI task timing breakdown/{n++} n==2 && /^(Section|Pair |Neigh |Comm |Output |Modify |Other )/' $lg | sed 's/^/      /' >> "$SUM"
   grep -E '^(Nlocal|Nghost):' $lg | tail -2 | sed 's/^/      /' >> "$SUM"
   awk '/^sphcut timing/{buf = $0 "\n"; f = 1; next} f && /^  /{buf = buf $0 "\n"; next} f{f = 0; last = buf}
@@ -237,19 +239,20 @@ scaling() {
 }
 strong() { scaling strong; }
 # the strong runs on more than one GPU again with LAMMPS' own choice for an MPI that is not GPU-aware
-# (SPHCUT_LAMMPS_CLASSIC_FORWARD=1: every forward communication through its classic host path, the
-# whole x array and each fix's columns to the host and back every step) instead of the device
-# packing with the messages staged through the host (fix 6 of tools/build-deps.sh); run after
-# `strong` (its 1-GPU run is the reference)
+# (SPHCUT_LAMMPS_CLASSIC_FORWARD=1: every communication through its classic host path, the whole x
+# array and each fix's columns to the host and back every step, every atom array at each
+# reneighbouring; MGPU_CLASSIC=exchange: only the exchange and borders) instead of the device
+# packing with the messages staged through the host (fixes 6 and 7 of tools/build-deps.sh); run
+# after `strong` (its 1-GPU run is the reference)
 classic() {
   mkdir -p $W/scale; cd $W/scale
-  local r1="" n
+  local r1="" n what=${MGPU_CLASSIC:-1}
   [ -f log.strong.device.1 ] && r1=$(rate_of log.strong.device.1)
   for n in ${MGPU_NP:-2 4}; do
     [ "$n" -gt 1 ] && [ "$n" -le "$NGPU" ] || continue
-    local tag=strong.classic.$n
-    SPHCUT_LAMMPS_CLASSIC_FORWARD=1 scale_run $n device ${NZ:-232} $tag || continue
-    report "strong, LAMMPS' classic host forward communication, $n GPU(s)" $tag $n "$r1"
+    local tag=strong.classic.${what//[^a-z0-9]/_}.$n
+    SPHCUT_LAMMPS_CLASSIC_FORWARD=$what scale_run $n device ${NZ:-232} $tag || continue
+    report "strong, LAMMPS' classic host path for '$what', $n GPU(s)" $tag $n "$r1"
   done
   cd "$ROOT"
 }
