@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Fixes 6 and 7 of tools/build-deps.sh: LAMMPS 29Sep2021's Kokkos communication on several ranks
-with an MPI that is not GPU-aware, packed on the device and staged through the host: the forward
-communication of every step (fix 6), the exchange and the borders of every reneighbouring (fix 7).
+"""Fixes 6, 7 and 8 of tools/build-deps.sh: LAMMPS 29Sep2021's Kokkos communication on several
+ranks with an MPI that is not GPU-aware, packed on the device and staged through the host: the
+forward communication of every step (fix 6), the exchange and the borders of every reneighbouring
+(fix 7), only the messages of the fixes' and pairs' forward communication (fix 8).
 
 Usage: lammps-staged-comm.py FILE...   (LAMMPS' src/KOKKOS/kokkos.cpp and/or comm_kokkos.cpp,
 patched in place, each by its name; a file already patched is left alone)
@@ -22,18 +23,25 @@ comm_kokkos.cpp  CommKokkos::forward_comm_device packs on the device, copies the
                  to the host and back.  Without fix 7 LAMMPS exchanged on the host: every atom
                  array to the host and back at every reneighbouring.  A fix with per-atom data
                  that registers a grow or border callback still sends LAMMPS to its classic
-                 exchange (fix sph/jc-thermal/kk with migrate device has none during a run)
+                 exchange (fix sph/jc-thermal/kk with migrate device has none during a run).
+                 forward_comm_fix_device and forward_comm_pair_device (fix 8) stage through the
+                 host already, but by DualView::sync, which copies the whole buffer each way for
+                 each message: the buffer is 1.5 times the largest message of any swap (the
+                 ranks' own periodic images included) and of any fix so far.  Only the message's
+                 doubles are copied now (SPHCUT_LAMMPS_CLASSIC_FORWARD=buffers: the whole buffers
+                 as before, the baseline)
 kokkos.cpp       the device paths stay on for the forward communication of the positions, of pairs
                  and of fixes (the latter two already stage through the host when gpu/aware is off)
                  and for the exchange and borders.  SPHCUT_LAMMPS_CLASSIC_FORWARD in the environment
                  restores LAMMPS' own choice: "1" for all four, or a list of pos, pair, fix,
-                 exchange (the baselines of bench/gpu/multigpu.sh).
+                 exchange (the baselines of bench/gpu/multigpu.sh; "buffers": fix 8's).
 """
 import os
 import sys
 
 MARK = "sphcut fix 6"
 MARK7 = "sphcut fix 7"
+MARK8 = "sphcut fix 8"
 
 
 def patch_kokkos(k):
@@ -181,6 +189,61 @@ BORDERS_NEW = """        // sphcut fix 7: MPI without GPU support: the messages 
 """
 
 
+# fix 8: forward_comm_fix_device and forward_comm_pair_device (X = fix, pair) without GPU-aware MPI
+# copy the message alone to the host and back, not the whole DualView buffer
+FWD_SEND_OLD = """      } else {
+        k_buf_send_X.modify<DeviceType>();
+        k_buf_send_X.sync<LMPHostType>();
+        buf_send_X = k_buf_send_X.h_view.data();
+        buf_recv_X = k_buf_recv_X.h_view.data();
+      }
+"""
+FWD_SEND_NEW = """      } else if (sphcut_whole_buffers()) {
+        k_buf_send_X.modify<DeviceType>();
+        k_buf_send_X.sync<LMPHostType>();
+        buf_send_X = k_buf_send_X.h_view.data();
+        buf_recv_X = k_buf_recv_X.h_view.data();
+      } else {
+        // sphcut fix 8: the n doubles of the message to the host, not the whole buffer
+        if (n)
+          Kokkos::deep_copy(Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged>(
+                              k_buf_send_X.h_view.data(),n),
+                            Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged>(
+                              k_buf_send_X.view<DeviceType>().data(),n));
+        buf_send_X = k_buf_send_X.h_view.data();
+        buf_recv_X = k_buf_recv_X.h_view.data();
+      }
+"""
+FWD_RECV_OLD = """      if (!lmp->kokkos->gpu_aware_flag) {
+        k_buf_recv_X.modify<LMPHostType>();
+        k_buf_recv_X.sync<DeviceType>();
+      }
+"""
+FWD_RECV_NEW = """      if (!lmp->kokkos->gpu_aware_flag && sphcut_whole_buffers()) {
+        k_buf_recv_X.modify<LMPHostType>();
+        k_buf_recv_X.sync<DeviceType>();
+      } else if (!lmp->kokkos->gpu_aware_flag && recvnum[iswap]) {
+        // sphcut fix 8: the received message alone back to the device
+        Kokkos::deep_copy(Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged>(
+                            k_buf_recv_X.view<DeviceType>().data(),nsize*recvnum[iswap]),
+                          Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged>(
+                            k_buf_recv_X.h_view.data(),nsize*recvnum[iswap]));
+      }
+"""
+WHOLE_FN = """
+// sphcut fix 8: SPHCUT_LAMMPS_CLASSIC_FORWARD=buffers: the fixes' and pairs' forward messages staged
+// by DualView::sync of their whole buffers, as LAMMPS 29Sep2021 does (the baseline)
+static bool sphcut_whole_buffers()
+{
+  static const int whole = [] {
+    const char *e = getenv("SPHCUT_LAMMPS_CLASSIC_FORWARD");
+    return e && strstr(e, "buffers") ? 1 : 0;
+  }();
+  return whole;
+}
+"""
+
+
 def patch_comm(c):
     if MARK not in c:
         old = "      if (sendproc[iswap] != me) {\n        if (comm_x_only) {\n"
@@ -193,6 +256,18 @@ def patch_comm(c):
             if c.count(old) != 1:
                 sys.exit("fix 7: comm_kokkos.cpp: %s's messages not found once" % what)
             c = c.replace(old, new, 1)
+    if MARK8 not in c:
+        for x in ("fix", "pair"):
+            for old, new in ((FWD_SEND_OLD, FWD_SEND_NEW), (FWD_RECV_OLD, FWD_RECV_NEW)):
+                old, new = old.replace("_X", "_" + x), new.replace("_X", "_" + x)
+                if c.count(old) != 1:
+                    sys.exit("fix 8: comm_kokkos.cpp: forward_comm_%s_device's staging not found once" % x)
+                c = c.replace(old, new, 1)
+        anchor = "using namespace LAMMPS_NS;\n"
+        if c.count(anchor) != 1:
+            sys.exit("fix 8: comm_kokkos.cpp: no 'using namespace LAMMPS_NS;' line")
+        c = c.replace(anchor, anchor + WHOLE_FN, 1)
+        c = c.replace("#include", "#include <cstdlib>  // sphcut fix 8\n#include <cstring>\n#include", 1)
     return c
 
 
@@ -208,11 +283,11 @@ def main(paths):
                 continue
             s = patch_kokkos(s)
         elif name == "comm_kokkos.cpp":
-            if MARK in s and MARK7 in s:
+            if MARK in s and MARK7 in s and MARK8 in s:
                 continue
             s = patch_comm(s)
         else:
-            sys.exit("fixes 6, 7: do not know how to patch %s" % p)
+            sys.exit("fixes 6-8: do not know how to patch %s" % p)
         with open(p, "w") as f:
             f.write(s)
 
