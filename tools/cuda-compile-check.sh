@@ -5,7 +5,8 @@
 # Needs nvcc and the CUDA Kokkos headers, which it builds once into the cache
 # (tools/build-deps.sh --cuda --kokkos-only, a few minutes), and the LAMMPS sources of the
 # OpenMP dependency build (make deps).  PTX only (no machine code): a compile check, not a build.
-# Usage: tools/cuda-compile-check.sh [--jobs N] [FILE.cpp ...]   (default: all of KOKKOS/*.cpp)
+# Usage: tools/cuda-compile-check.sh [--jobs N] [FILE.cpp ...]   (default: all of KOKKOS/*.cpp and
+# LAMMPS' comm_kokkos.cpp and kokkos.cpp with the CUDA build's fixes 6-8)
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 JOBS=1
@@ -18,7 +19,8 @@ while [ $# -gt 0 ]; do
   esac
   shift
 done
-[ ${#FILES[@]} -gt 0 ] || FILES=("$ROOT"/KOKKOS/*.cpp)
+DEFAULT_FILES=0
+[ ${#FILES[@]} -gt 0 ] || { FILES=("$ROOT"/KOKKOS/*.cpp); DEFAULT_FILES=1; }
 command -v nvcc >/dev/null 2>&1 || export PATH="$PATH:/usr/local/cuda/bin"
 command -v nvcc >/dev/null 2>&1 || { echo "cuda-compile-check: no nvcc" >&2; exit 2; }
 LPREFIX=$(bash "$ROOT/tools/build-deps.sh" --print-prefix)
@@ -32,6 +34,14 @@ NVW="$KPREFIX/src/kokkos/bin/nvcc_wrapper"
 MPI_INC=$(mpicxx --showme:incdirs 2>/dev/null | tr ' ' '\n' | sed 's/^/-isystem /' | tr '\n' ' ')
 OUTDIR=$(mktemp -d)
 trap 'rm -rf "$OUTDIR"' EXIT
+# by default also LAMMPS' two files that fixes 6-8 of tools/build-deps.sh patch for the CUDA build
+# (tools/lammps-staged-comm.py), patched here as there
+if [ $DEFAULT_FILES = 1 ]; then
+  mkdir -p "$OUTDIR/lammps"
+  cp "$LSRC/KOKKOS/comm_kokkos.cpp" "$LSRC/KOKKOS/kokkos.cpp" "$OUTDIR/lammps/"
+  python3 "$ROOT/tools/lammps-staged-comm.py" "$OUTDIR/lammps/comm_kokkos.cpp" "$OUTDIR/lammps/kokkos.cpp"
+  FILES+=("$OUTDIR/lammps/comm_kokkos.cpp" "$OUTDIR/lammps/kokkos.cpp")
+fi
 compile() {
   local f=$1
   local t0; t0=$(date +%s)
