@@ -19,8 +19,9 @@
 #            ranks) and the sphcut timing table (max over the ranks) per run
 #   classic  (after strong) its runs on 2 and 4 GPUs with LAMMPS' classic host path for what
 #            MGPU_CLASSIC names (SPHCUT_LAMMPS_CLASSIC_FORWARD=$MGPU_CLASSIC; default 1: all of the
-#            communication; "exchange": the exchange and borders at each reneighbouring), the
-#            baselines of fixes 6 and 7 of tools/build-deps.sh
+#            communication; "exchange": the exchange and borders at each reneighbouring;
+#            "buffers": the fixes' and pairs' whole message buffers), the baselines of fixes 6-8 of
+#            tools/build-deps.sh
 #   weak     the same with NZ x N layers on N GPUs (about 4.1 M particles per GPU): efficiency t1 / tN
 # Settings (environment): MGPU_NP (GPU counts, default "1 2 4"; counts above the machine's GPUs are
 # skipped), MGPU_MIGRATE ("device host"), NZ (232), STEPS (200), REBUILD (reneighbour every this many
@@ -241,9 +242,9 @@ strong() { scaling strong; }
 # the strong runs on more than one GPU again with LAMMPS' own choice for an MPI that is not GPU-aware
 # (SPHCUT_LAMMPS_CLASSIC_FORWARD=1: every communication through its classic host path, the whole x
 # array and each fix's columns to the host and back every step, every atom array at each
-# reneighbouring; MGPU_CLASSIC=exchange: only the exchange and borders) instead of the device
-# packing with the messages staged through the host (fixes 6 and 7 of tools/build-deps.sh); run
-# after `strong` (its 1-GPU run is the reference)
+# reneighbouring; MGPU_CLASSIC=exchange: only the exchange and borders; buffers: the fixes' and
+# pairs' whole buffers staged) instead of the device packing with the messages staged through the
+# host (fixes 6-8 of tools/build-deps.sh); run after `strong` (its 1-GPU run is the reference)
 classic() {
   mkdir -p $W/scale; cd $W/scale
   local r1="" n what=${MGPU_CLASSIC:-1}
