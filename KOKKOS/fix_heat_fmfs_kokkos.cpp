@@ -87,6 +87,28 @@ template <class DeviceType, int N, class Body, class Fin> FinalSums<DeviceType, 
 {
   return FinalSums<DeviceType, N, Body, Fin>(b, f);
 }
+
+// a pass's final on the losses (FixHeatFMFSKokkos::d_loss): with rates, the rates it replaces
+// take their weight wr into the convective and radiative heat and its sums r[0], r[1] become the
+// rates; with c0 >= 0 its sums r[c0 ..] add to the three scheme counters
+template <class DeviceType> struct LossFinal {
+  typedef FixHeatFMFSKokkos<DeviceType> F;
+  static_assert(F::L_NBROOK == F::L_NFMFS + 1 && F::L_NFALL == F::L_NFMFS + 2, "scheme counters not contiguous");
+  Kokkos::View<double *, typename DeviceType::memory_space> loss;
+  double wr;
+  int rates, c0;
+  KOKKOS_INLINE_FUNCTION void operator()(const double *r) const
+  {
+    if (rates) {
+      loss(F::L_QCONV) += wr * loss(F::L_CONV);
+      loss(F::L_QRAD) += wr * loss(F::L_RAD);
+      loss(F::L_CONV) = r[0];
+      loss(F::L_RAD) = r[1];
+    }
+    if (c0 >= 0)
+      for (int k = 0; k < 3; k++) loss(F::L_NFMFS + k) += r[c0 + k];
+  }
+};
 }    // namespace
 
 template <class DeviceType>
@@ -387,8 +409,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   const int has_surf = surfkk != nullptr, fmfs = scheme == FMFS;
   const double flam = fmfs_lambda;
   const sphcut::HeatLosses hl = losses();
-  auto loss = d_loss;
-  const double wr = replaced_weight;
+  const LossFinal<DeviceType> fin{d_loss, replaced_weight, 1, 2};
 
   Kokkos::parallel_for("sphcut:heat:zero_held_pp",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
@@ -411,15 +432,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
-      }, KOKKOS_LAMBDA(const double *r) {
-        loss(L_QCONV) += wr * loss(L_CONV);
-        loss(L_QRAD) += wr * loss(L_RAD);
-        loss(L_CONV) = r[0];
-        loss(L_RAD) = r[1];
-        loss(L_NFMFS) += r[2];
-        loss(L_NBROOK) += r[3];
-        loss(L_NFALL) += r[4];
-      }),
+      }, fin),
       Kokkos::subview(d_red, std::make_pair(0, 5)));
   fixkk->k_state.template modify<DeviceType>();
 }
@@ -458,7 +471,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
   auto mat = d_mat;
   const int gb = groupbit, has_surf = surfkk != nullptr, fmfs = scheme == FMFS, fuse = fuse_surface;
   const double flam = fmfs_lambda, thr = surfkk ? surfkk->threshold : 0.0;
-  auto loss = d_loss;
+  const LossFinal<DeviceType> fin{d_loss, 0.0, 0, 0};
   // every local particle's weight flag and surface values are cleared before they are set: in
   // the pass itself when its list holds every local particle (the ghosts take theirs from the
   // forward communication after it), else in kernels of their own first
@@ -501,11 +514,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
           fw(i, FW0) = 1.0;
         }
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
-      }, KOKKOS_LAMBDA(const double *r) {
-        loss(L_NFMFS) += r[0];
-        loss(L_NBROOK) += r[1];
-        loss(L_NFALL) += r[2];
-      }),
+      }, fin),
       Kokkos::subview(d_red, std::make_pair(0, 3)));
   k_fwts.template modify<DeviceType>();
   if (fuse) surfkk->k_out.template modify<DeviceType>();
@@ -524,8 +533,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
   auto mat = d_mat;
   const int gb = groupbit, use_rmass = atom->rmass_flag, has_surf = surfkk != nullptr;
   const sphcut::HeatLosses hl = losses();
-  auto loss = d_loss;
-  const double wr = replaced_weight;
+  const LossFinal<DeviceType> fin{d_loss, replaced_weight, 1, -1};
   // the held rate of every local particle is set: by the pass itself when its list holds every
   // local particle, else cleared first in a kernel of its own
   const int clear = list->inum == atom->nlocal;
@@ -550,12 +558,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
-      }, KOKKOS_LAMBDA(const double *r) {
-        loss(L_QCONV) += wr * loss(L_CONV);
-        loss(L_QRAD) += wr * loss(L_RAD);
-        loss(L_CONV) = r[0];
-        loss(L_RAD) = r[1];
-      }),
+      }, fin),
       Kokkos::subview(d_red, std::make_pair(0, 2)));
   fixkk->k_state.template modify<DeviceType>();
 }
