@@ -66,11 +66,14 @@ def patch_kokkos(k):
     return k.replace("#include", "#include <cstdlib>  // %s\n#include <cstring>\n#include" % MARK, 1)
 
 
+# the host and device views of a staged message (fixes 6-8), in a block of 8 spaces' indent
+MSG_TYPES = """typedef Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged> HostMsg;
+        typedef Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged> DevMsg;"""
+
 STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
         // sphcut fix 6: MPI without GPU support: pack on the device, stage the message
         // through the host halves of the buffers (only the doubles sent and received)
-        typedef Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged> HostMsg;
-        typedef Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged> DevMsg;
+        """ + MSG_TYPES + """
         const int nrecv = size_forward_recv[iswap];
         if (nrecv)
           MPI_Irecv(k_buf_recv.h_view.data(),nrecv,MPI_DOUBLE,recvproc[iswap],0,world,&request);
@@ -114,9 +117,6 @@ STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
 
 # fix 7: the messages of exchange_device (the leaving atoms, along each dimension to one or both
 # neighbours) and of borders_device (the border atoms of a swap)
-MSG_TYPES = """typedef Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged> HostMsg;
-        typedef Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged> DevMsg;"""
-
 EXCHANGE_OLD = """        MPI_Irecv(k_buf_recv.view<DeviceType>().data(),nrecv1,
                   MPI_DOUBLE,procneigh[dim][1],0,
                   world,&request);
@@ -205,11 +205,10 @@ FWD_SEND_NEW = """      } else if (sphcut_whole_buffers()) {
         buf_recv_X = k_buf_recv_X.h_view.data();
       } else {
         // sphcut fix 8: the n doubles of the message to the host, not the whole buffer
+        """ + MSG_TYPES + """
         if (n)
-          Kokkos::deep_copy(Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged>(
-                              k_buf_send_X.h_view.data(),n),
-                            Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged>(
-                              k_buf_send_X.view<DeviceType>().data(),n));
+          Kokkos::deep_copy(HostMsg(k_buf_send_X.h_view.data(),n),
+                            DevMsg(k_buf_send_X.view<DeviceType>().data(),n));
         buf_send_X = k_buf_send_X.h_view.data();
         buf_recv_X = k_buf_recv_X.h_view.data();
       }
@@ -224,10 +223,9 @@ FWD_RECV_NEW = """      if (!lmp->kokkos->gpu_aware_flag && sphcut_whole_buffers
         k_buf_recv_X.sync<DeviceType>();
       } else if (!lmp->kokkos->gpu_aware_flag && recvnum[iswap]) {
         // sphcut fix 8: the received message alone back to the device
-        Kokkos::deep_copy(Kokkos::View<double *, typename DeviceType::memory_space, Kokkos::MemoryUnmanaged>(
-                            k_buf_recv_X.view<DeviceType>().data(),nsize*recvnum[iswap]),
-                          Kokkos::View<double *, LMPHostType::memory_space, Kokkos::MemoryUnmanaged>(
-                            k_buf_recv_X.h_view.data(),nsize*recvnum[iswap]));
+        """ + MSG_TYPES + """
+        Kokkos::deep_copy(DevMsg(k_buf_recv_X.view<DeviceType>().data(),nsize*recvnum[iswap]),
+                          HostMsg(k_buf_recv_X.h_view.data(),nsize*recvnum[iswap]));
       }
 """
 WHOLE_FN = """
