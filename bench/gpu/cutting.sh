@@ -44,8 +44,8 @@
 #   ab       speed of this tree (A) against a baseline (B: .carry/b-src.tar.gz, build_b of common.sh),
 #            in turn AB_REPS times (default 2): the 2D cut in contact at AB_NY (41) across, PROF_STEPS
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
-#            steps (particle-steps/s), AB_NY= or AB_NZ= (empty) leaving that part out; AB_KP=NZ: then each variant's slab at NZ layers under kp_timer
-#            (kernel times)
+#            steps (particle-steps/s), AB_NY= or AB_NZ= (empty) leaving that part out; AB_KP=NZ:
+#            then each variant's slab at NZ layers under kp_timer (kernel times)
 #   envab    one binary under ENVAB_SETS environment settings or -var settings of the input (;-separated,
 #            e.g. SPHCUT_PAIR_BOUNDS=0 or -var balance shift), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
