@@ -124,7 +124,7 @@ template <class DeviceType> struct AtomicAdd {
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
     PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
-    fixkk(nullptr), tables_ready(0), lanes_env(0), bounded(1)
+    fixkk(nullptr), tables_ready(0), lanes_env(0), bounded(1), prefetch(1)
 {
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
@@ -157,6 +157,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
       error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_LANES={} is not 1, 2, 4, 8, 16 or 32", v);
   }
   bounded = sphcut::env_switch(lmp, "SPHCUT_PAIR_BOUNDS", "Pair sph/jc-thermal/kk", 1);
+  prefetch = sphcut::env_switch(lmp, "SPHCUT_PAIR_PREFETCH", "Pair sph/jc-thermal/kk", 1);
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
@@ -228,9 +229,15 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       if (dim == 2) neigh_pass_team<2>(inum, any_as, lanes);
       else neigh_pass_team<3>(inum, any_as, lanes);
     } else {
-      if (bounded) {
+      if (bounded && prefetch) {
+        if (dim == 2) neigh_pass<2, 0, 0, NEIGH_MINB, 1>(inum, any_as);
+        else neigh_pass<3, 0, 0, NEIGH_MINB, 1>(inum, any_as);
+      } else if (bounded) {
         if (dim == 2) neigh_pass<2, 0, 0, NEIGH_MINB>(inum, any_as);
         else neigh_pass<3, 0, 0, NEIGH_MINB>(inum, any_as);
+      } else if (prefetch) {
+        if (dim == 2) neigh_pass<2, 0, 0, 0, 1>(inum, any_as);
+        else neigh_pass<3, 0, 0, 0, 1>(inum, any_as);
       } else {
         if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
         else neigh_pass<3, 0, 0>(inum, any_as);
@@ -335,7 +342,7 @@ template <class DeviceType> bool PairSPHJCThermalKokkos<DeviceType>::rows_fit(in
 ------------------------------------------------------------------------- */
 
 template <class DeviceType>
-template <int DIM, int HALF, int NEWTON, int MINB>
+template <int DIM, int HALF, int NEWTON, int MINB, int PF>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
   const NeighViews nv = neigh_views();
@@ -359,9 +366,31 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
         const double Vi = nv.pk(i, sphcut::PK_VOL);
         const sphcut::TypePair *tprow = &nv.tpt(itype * ntp);
         const int jnum = nv.numneigh(i);
+        // PF: the next entry's index and row head are loaded before this entry's rest and its
+        // pair's work, so that their latency overlaps them (a chain of dependent loads per entry
+        // otherwise: index, head, rest)
+        int jn = 0;
+        double xn[3] = {0.0, 0.0, 0.0}, tn = 0.0;
+        if (PF && jnum > 0) {
+          jn = nv.neighbors(i, 0) & NEIGHMASK;
+          sphcut::unpack_j_head(&nv.pk(jn, 0), xn, tn);
+        }
         for (int jj = 0; jj < jnum; jj++) {
-          const int j = nv.neighbors(i, jj) & NEIGHMASK;
-          if (!gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj)) continue;
+          int j;
+          bool inside;
+          if (PF) {
+            j = jn;
+            const double xj[3] = {xn[0], xn[1], xn[2]}, tj = tn;
+            if (jj + 1 < jnum) {
+              jn = nv.neighbors(i, jj + 1) & NEIGHMASK;
+              sphcut::unpack_j_head(&nv.pk(jn, 0), xn, tn);
+            }
+            inside = sphcut::unpack_j_rest(&nv.pk(j, 0), xj, tj, tprow, xi, vi, in, mj, Vj);
+          } else {
+            j = nv.neighbors(i, jj) & NEIGHMASK;
+            inside = gather_j(nv.pk, tprow, j, xi, vi, in, mj, Vj);
+          }
+          if (!inside) continue;
           sphcut::pair_terms<DIM>(kind, in, out);
           sphcut::pair_accumulate<DIM>(in, out, mi * mj, mj, Vj, 1.0, LocalAdd{acc});
           if (HALF && (NEWTON || j < nlocal))

@@ -95,7 +95,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   sphcut::RowPacker<DeviceType> packer_for_fix();
   void rows_prepacked(bigint step) { prepacked_step = step; }
   bool rows_fit(int pk_cols) const;
-  template <int DIM, int HALF, int NEWTON, int MINB = 0> void neigh_pass(int inum, int any_as);
+  template <int DIM, int HALF, int NEWTON, int MINB = 0, int PF = 0> void neigh_pass(int inum, int any_as);
   template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
   template <int DIM> void hourglass_pass(int inum);
   // the team path (neigh_pass_team): at most TEAM_LANES_2D / _3D lanes per particle, halved
@@ -108,6 +108,12 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // (bench/gpu/RESULTS.md, "Launch bounds"), the 3D slab at 4.24 M -2 %, the 2D cut at 70k
   // particles about -10 %.  SPHCUT_PAIR_BOUNDS=0 (environment) runs the unbounded one, as before,
   // for that comparison.
+  // The one-thread-per-particle pass loads each list entry's index and row head one entry ahead
+  // (PF: their latency overlaps the entry before; sphcut::unpack_j_head / unpack_j_rest): measured
+  // on one H100 (bench/gpu/RESULTS.md, "The pair's list entries loaded one ahead") the pass at
+  // 1.06 M particles in 3D -17 %, the step at 4.24 M -5 %.  SPHCUT_PAIR_PREFETCH=0 (environment)
+  // loads each entry when it is taken, as before, for that comparison.  (The team pass, one entry
+  // ahead per lane, gained nothing at 18k particles in 2D and is not kept.)
   enum { NEIGH_MINB = 3 };
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
@@ -141,6 +147,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   int tables_ready;
   int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
   int bounded;      // SPHCUT_PAIR_BOUNDS (NEIGH_MINB), 1 where unset
+  int prefetch;     // SPHCUT_PAIR_PREFETCH (PF of neigh_pass), 1 where unset
   bigint prepacked_step = -1;    // the step whose local rows the fix packed (rows_prepacked)
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major

@@ -398,17 +398,23 @@ SPHCUT_INLINE void unpack_i(const double *pi, int with_as, double *xi, double *v
   for (int k = 0; k < 6; k += 2) load2(pi + PK_A + k, in.A_i[k], in.A_i[k + 1]);
 }
 
-// the inputs of pair i-j from j's row and the row tprow of i's type pairs (tprow[type of j]):
-// false when j is beyond the cutoff (or on top of i), or not in the SPH solid (mj 0; loaded
-// only within the cutoff); mj and Vj the mass and volume of j.  The artificial stress term:
-// in.R_i and R_j point to the two tensors where one of them is nonzero, else in.R_i is nullptr
-// (pair_terms skips the term and loads neither).
-SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const double *xi, const double *vi, PairIn &in,
-                            double &mj, double &Vj)
+// the head of j's row: its position and its type (as stored: negative with artificial stress),
+// what the cutoff test reads of every list entry
+SPHCUT_INLINE void unpack_j_head(const double *pj, double *xj, double &tj)
 {
-  double xj[3], tj;
   load2(pj + PK_X, xj[0], xj[1]);
   load2(pj + PK_X + 2, xj[2], tj);
+}
+
+// the inputs of pair i-j from j's row pj, whose head (unpack_j_head) is xj, tj, and the row tprow
+// of i's type pairs (tprow[type of j]): false when j is beyond the cutoff (or on top of i), or not
+// in the SPH solid (mj 0; loaded only within the cutoff); mj and Vj the mass and volume of j.  The
+// artificial stress term: in.R_i and R_j point to the two tensors where one of them is nonzero,
+// else in.R_i is nullptr (pair_terms skips the term and loads neither).  (A GPU pass may load the
+// next entry's head before this one's rest: its latency then overlaps this pair's work.)
+SPHCUT_INLINE bool unpack_j_rest(const double *pj, const double *xj, double tj, const TypePair *tprow,
+                                 const double *xi, const double *vi, PairIn &in, double &mj, double &Vj)
+{
   for (int a = 0; a < 3; a++) in.dx[a] = xi[a] - xj[a];
   in.r2 = in.dx[0] * in.dx[0] + in.dx[1] * in.dx[1] + in.dx[2] * in.dx[2];
   const TypePair &tp = tprow[row_type(tj)];
@@ -424,6 +430,15 @@ SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const doubl
   in.R_i = in.R_own && (in.r_own || tj < 0.0) ? in.R_own : nullptr;
   in.R_j = pj + PK_R;
   return true;
+}
+
+// the inputs of pair i-j from j's row: unpack_j_head, then unpack_j_rest
+SPHCUT_INLINE bool unpack_j(const double *pj, const TypePair *tprow, const double *xi, const double *vi, PairIn &in,
+                            double &mj, double &Vj)
+{
+  double xj[3], tj;
+  unpack_j_head(pj, xj, tj);
+  return unpack_j_rest(pj, xj, tj, tprow, xi, vi, in, mj, Vj);
 }
 
 }    // namespace sphcut
