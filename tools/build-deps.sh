@@ -56,8 +56,8 @@ done
 CACHE="${SPHCUT_CACHE:-$HOME/.cache/sphcut}"
 if [ $CUDA = 1 ]; then BACKEND=cuda-ampere80; else BACKEND=openmp; fi
 KEY="lammps-${LAMMPS_DEB_VERSION}_kokkos-${KOKKOS_VERSION}-${BACKEND}_mpi_r${RECIPE}"
-# the CUDA build carries fixes 6 to 8 (communication staged through the host) as well
-[ $CUDA = 1 ] && KEY="${KEY}_s8"
+# the CUDA build carries fixes 6 to 9 (communication staged through the host) as well
+[ $CUDA = 1 ] && KEY="${KEY}_s9"
 [ $KOKKOS_ONLY = 1 ] && KEY="kokkos-${KOKKOS_VERSION}-${BACKEND}_r${RECIPE}"
 KEY="${KEY//+/_}"
 PREFIX="$CACHE/$KEY"
@@ -259,17 +259,19 @@ fi
 
 # ---------------------------------------------------------------- LAMMPS
 if [ $CUDA = 1 ]; then
-  # Fixes 6 to 8 (CUDA): with an MPI that is not GPU-aware (Open MPI built without CUDA, as on the
+  # Fixes 6 to 9 (CUDA): with an MPI that is not GPU-aware (Open MPI built without CUDA, as on the
   # device machine) LAMMPS 29Sep2021 sends all Kokkos communication on several ranks through its
   # classic host path (the whole x array to the host and back every step, every atom array at every
   # reneighbouring); tools/lammps-staged-comm.py packs on the device and stages only the messages
   # through the host: the forward communication (fix 6), the exchange and borders (fix 7), the
-  # fixes' and pairs' messages without their whole buffers (fix 8)
+  # fixes' and pairs' messages without their whole buffers (fix 8), all of them through page-locked
+  # host buffers (fix 9)
   # (checked on the OpenMP backend by ctest -R test_migrate_np2_staged; figures bench/gpu/RESULTS.md)
   python3 "$HERE/lammps-staged-comm.py" "$LSRC/src/KOKKOS/kokkos.cpp" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
   grep -q "sphcut fix 6" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
   grep -q "sphcut fix 7" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
   grep -q "sphcut fix 8" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
+  grep -q "sphcut fix 9" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
 fi
 log "building LAMMPS (shared, MPI, OpenMP, PLUGIN KOKKOS OPENMP ${CMP_PKGS[*]})"
 mkdir -p "$LSRC/potentials"    # its install step copies this folder (absent in packed sources)

@@ -6,7 +6,7 @@
 # (tools/build-deps.sh --cuda --kokkos-only, a few minutes), and the LAMMPS sources of the
 # OpenMP dependency build (make deps).  PTX only (no machine code): a compile check, not a build.
 # Usage: tools/cuda-compile-check.sh [--jobs N] [FILE.cpp ...]   (default: all of KOKKOS/*.cpp and
-# LAMMPS' comm_kokkos.cpp and kokkos.cpp with the CUDA build's fixes 6-8)
+# LAMMPS' comm_kokkos.cpp and kokkos.cpp with the CUDA build's fixes 6-9)
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/.." && pwd)"
 JOBS=1
@@ -34,7 +34,7 @@ NVW="$KPREFIX/src/kokkos/bin/nvcc_wrapper"
 MPI_INC=$(mpicxx --showme:incdirs 2>/dev/null | tr ' ' '\n' | sed 's/^/-isystem /' | tr '\n' ' ')
 OUTDIR=$(mktemp -d)
 trap 'rm -rf "$OUTDIR"' EXIT
-# by default also LAMMPS' two files that fixes 6-8 of tools/build-deps.sh patch for the CUDA build
+# by default also LAMMPS' two files that fixes 6-9 of tools/build-deps.sh patch for the CUDA build
 # (tools/lammps-staged-comm.py), patched here as there
 if [ $DEFAULT_FILES = 1 ]; then
   mkdir -p "$OUTDIR/lammps"

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Fixes 6, 7 and 8 of tools/build-deps.sh: LAMMPS 29Sep2021's Kokkos communication on several
+"""Fixes 6 to 9 of tools/build-deps.sh: LAMMPS 29Sep2021's Kokkos communication on several
 ranks with an MPI that is not GPU-aware, packed on the device and staged through the host: the
 forward communication of every step (fix 6), the exchange and the borders of every reneighbouring
-(fix 7), only the messages of the fixes' and pairs' forward communication (fix 8).
+(fix 7), only the messages of the fixes' and pairs' forward communication (fix 8), all of these
+messages through page-locked host buffers (fix 9).
 
 Usage: lammps-staged-comm.py FILE...   (LAMMPS' src/KOKKOS/kokkos.cpp and/or comm_kokkos.cpp,
 patched in place, each by its name; a file already patched is left alone)
@@ -29,7 +30,11 @@ comm_kokkos.cpp  CommKokkos::forward_comm_device packs on the device, copies the
                  each message: the buffer is 1.5 times the largest message of any swap (the
                  ranks' own periodic images included) and of any fix so far.  Only the message's
                  doubles are copied now (SPHCUT_LAMMPS_CLASSIC_FORWARD=buffers: the whole buffers
-                 as before, the baseline)
+                 as before, the baseline).  Fix 9: the staged messages of fixes 6-8 go through two
+                 page-locked host buffers of the file's own (sphcut_stage; cudaMallocHost), not
+                 the pageable host halves of LAMMPS' buffers, so that the copies run by DMA
+                 (SPHCUT_LAMMPS_STAGE=pageable: the host halves, the baseline).  On a host backend
+                 they are host memory, and the copies, empty before, are real there
 kokkos.cpp       the device paths stay on for the forward communication of the positions, of pairs
                  and of fixes (the latter two already stage through the host when gpu/aware is off)
                  and for the exchange and borders.  SPHCUT_LAMMPS_CLASSIC_FORWARD in the environment
@@ -42,6 +47,7 @@ import sys
 MARK = "sphcut fix 6"
 MARK7 = "sphcut fix 7"
 MARK8 = "sphcut fix 8"
+MARK9 = "sphcut fix 9"
 
 
 def patch_kokkos(k):
@@ -75,8 +81,9 @@ STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
         // through the host halves of the buffers (only the doubles sent and received)
         """ + MSG_TYPES + """
         const int nrecv = size_forward_recv[iswap];
+        double *const hrecv = sphcut_stage(1,nrecv,k_buf_recv.h_view.data());    // fix 9
         if (nrecv)
-          MPI_Irecv(k_buf_recv.h_view.data(),nrecv,MPI_DOUBLE,recvproc[iswap],0,world,&request);
+          MPI_Irecv(hrecv,nrecv,MPI_DOUBLE,recvproc[iswap],0,world,&request);
         if (ghost_velocity)
           n = avec->pack_comm_vel_kokkos(sendnum[iswap],k_sendlist,iswap,
                                          k_buf_send,pbc_flag[iswap],pbc[iswap]);
@@ -85,9 +92,9 @@ STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
                                      k_buf_send,pbc_flag[iswap],pbc[iswap]);
         DeviceType().fence();
         if (n) {
-          Kokkos::deep_copy(HostMsg(k_buf_send.h_view.data(),n),
-                            DevMsg(k_buf_send.view<DeviceType>().data(),n));
-          MPI_Send(k_buf_send.h_view.data(),n,MPI_DOUBLE,sendproc[iswap],0,world);
+          double *const hsend = sphcut_stage(0,n,k_buf_send.h_view.data());
+          Kokkos::deep_copy(HostMsg(hsend,n),DevMsg(k_buf_send.view<DeviceType>().data(),n));
+          MPI_Send(hsend,n,MPI_DOUBLE,sendproc[iswap],0,world);
         }
         if (nrecv) MPI_Wait(&request,MPI_STATUS_IGNORE);
 #ifndef SPHCUT_FIX6_UNPACK_X
@@ -99,13 +106,12 @@ STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
           if (nrecv) {
             Kokkos::deep_copy(DevMsg(atomKK->k_x.view<DeviceType>().data() +
                                      firstrecv[iswap]*atomKK->k_x.view<DeviceType>().extent(1),nrecv),
-                              HostMsg(k_buf_recv.h_view.data(),nrecv));
+                              HostMsg(hrecv,nrecv));
             atomKK->modified(ExecutionSpaceFromDevice<DeviceType>::space,X_MASK);
           }
         } else {
           if (nrecv)
-            Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv),
-                              HostMsg(k_buf_recv.h_view.data(),nrecv));
+            Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv),HostMsg(hrecv,nrecv));
           if (ghost_velocity) avec->unpack_comm_vel_kokkos(recvnum[iswap],firstrecv[iswap],k_buf_recv);
           else avec->unpack_comm_kokkos(recvnum[iswap],firstrecv[iswap],k_buf_recv);
         }
@@ -138,11 +144,10 @@ EXCHANGE_NEW = """        // sphcut fix 7: MPI without GPU support: the messages
         // the buffers (only the doubles sent and received)
         const bool staged = !lmp->kokkos->gpu_aware_flag;
         """ + MSG_TYPES + """
-        double *sbuf = staged ? k_buf_send.h_view.data() : k_buf_send.view<DeviceType>().data();
-        double *rbuf = staged ? k_buf_recv.h_view.data() : k_buf_recv.view<DeviceType>().data();
+        double *sbuf = staged ? sphcut_stage(0,nsend,k_buf_send.h_view.data()) : k_buf_send.view<DeviceType>().data();
+        double *rbuf = staged ? sphcut_stage(1,nrecv,k_buf_recv.h_view.data()) : k_buf_recv.view<DeviceType>().data();
         if (staged && nsend)
-          Kokkos::deep_copy(HostMsg(k_buf_send.h_view.data(),nsend),
-                            DevMsg(k_buf_send.view<DeviceType>().data(),nsend));
+          Kokkos::deep_copy(HostMsg(sbuf,nsend),DevMsg(k_buf_send.view<DeviceType>().data(),nsend));
         MPI_Irecv(rbuf,nrecv1,
                   MPI_DOUBLE,procneigh[dim][1],0,
                   world,&request);
@@ -159,8 +164,7 @@ EXCHANGE_NEW = """        // sphcut fix 7: MPI without GPU support: the messages
           MPI_Wait(&request,MPI_STATUS_IGNORE);
         }
         if (staged && nrecv)
-          Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv),
-                            HostMsg(k_buf_recv.h_view.data(),nrecv));
+          Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv),HostMsg(rbuf,nrecv));
 """
 
 BORDERS_OLD = """        if (nrecv) MPI_Irecv(k_buf_recv.view<DeviceType>().data(),
@@ -174,18 +178,18 @@ BORDERS_OLD = """        if (nrecv) MPI_Irecv(k_buf_recv.view<DeviceType>().data
 BORDERS_NEW = """        // sphcut fix 7: MPI without GPU support: the messages staged through the host
         const bool staged = !lmp->kokkos->gpu_aware_flag;
         """ + MSG_TYPES + """
+        double *sbuf = staged ? sphcut_stage(0,n,k_buf_send.h_view.data()) : k_buf_send.view<DeviceType>().data();
+        double *rbuf = staged ? sphcut_stage(1,nrecv*size_border,k_buf_recv.h_view.data())
+                              : k_buf_recv.view<DeviceType>().data();
         if (staged && n)
-          Kokkos::deep_copy(HostMsg(k_buf_send.h_view.data(),n),
-                            DevMsg(k_buf_send.view<DeviceType>().data(),n));
-        if (nrecv) MPI_Irecv(staged ? k_buf_recv.h_view.data() : k_buf_recv.view<DeviceType>().data(),
-                             nrecv*size_border,MPI_DOUBLE,
+          Kokkos::deep_copy(HostMsg(sbuf,n),DevMsg(k_buf_send.view<DeviceType>().data(),n));
+        if (nrecv) MPI_Irecv(rbuf,nrecv*size_border,MPI_DOUBLE,
                              recvproc[iswap],0,world,&request);
-        if (n) MPI_Send(staged ? k_buf_send.h_view.data() : k_buf_send.view<DeviceType>().data(),n,
-                        MPI_DOUBLE,sendproc[iswap],0,world);
+        if (n) MPI_Send(sbuf,n,MPI_DOUBLE,sendproc[iswap],0,world);
         if (nrecv) MPI_Wait(&request,MPI_STATUS_IGNORE);
         if (staged && nrecv)
           Kokkos::deep_copy(DevMsg(k_buf_recv.view<DeviceType>().data(),nrecv*size_border),
-                            HostMsg(k_buf_recv.h_view.data(),nrecv*size_border));
+                            HostMsg(rbuf,nrecv*size_border));
 """
 
 
@@ -206,11 +210,10 @@ FWD_SEND_NEW = """      } else if (sphcut_whole_buffers()) {
       } else {
         // sphcut fix 8: the n doubles of the message to the host, not the whole buffer
         """ + MSG_TYPES + """
+        buf_send_X = sphcut_stage(0,n,k_buf_send_X.h_view.data());    // fix 9
+        buf_recv_X = sphcut_stage(1,nsize*recvnum[iswap],k_buf_recv_X.h_view.data());
         if (n)
-          Kokkos::deep_copy(HostMsg(k_buf_send_X.h_view.data(),n),
-                            DevMsg(k_buf_send_X.view<DeviceType>().data(),n));
-        buf_send_X = k_buf_send_X.h_view.data();
-        buf_recv_X = k_buf_recv_X.h_view.data();
+          Kokkos::deep_copy(HostMsg(buf_send_X,n),DevMsg(k_buf_send_X.view<DeviceType>().data(),n));
       }
 """
 FWD_RECV_OLD = """      if (!lmp->kokkos->gpu_aware_flag) {
@@ -225,7 +228,7 @@ FWD_RECV_NEW = """      if (!lmp->kokkos->gpu_aware_flag && sphcut_whole_buffers
         // sphcut fix 8: the received message alone back to the device
         """ + MSG_TYPES + """
         Kokkos::deep_copy(DevMsg(k_buf_recv_X.view<DeviceType>().data(),nsize*recvnum[iswap]),
-                          HostMsg(k_buf_recv_X.h_view.data(),nsize*recvnum[iswap]));
+                          HostMsg(buf_recv_X,nsize*recvnum[iswap]));
       }
 """
 WHOLE_FN = """
@@ -241,8 +244,54 @@ static bool sphcut_whole_buffers()
 }
 """
 
+# fix 9: the host side of every staged message (fixes 6-8) in page-locked memory of its own
+STAGE_FN = """
+// sphcut fix 9: the staged messages of fixes 6-8 pass through page-locked host buffers of their own
+// (CUDA: cudaMallocHost; the copies to and from the device then run by DMA at the link's rate,
+// where from pageable memory the driver copies through bounce buffers of its own).  which: 0 the
+// message sent, 1 the one received; n doubles, kept until the next call with the same which.
+// SPHCUT_LAMMPS_STAGE=pageable: the host halves of LAMMPS' buffers (fallback), as fixes 6-8 alone,
+// the baseline.  On a host backend the buffers are host memory (the copies real, as on a GPU)
+#ifdef KOKKOS_ENABLE_CUDA
+typedef Kokkos::CudaHostPinnedSpace SphcutStageSpace;
+#else
+typedef Kokkos::HostSpace SphcutStageSpace;
+#endif
+static double *sphcut_stage_buf[2] = {nullptr, nullptr};
+static size_t sphcut_stage_cap[2] = {0, 0};
+static double *sphcut_stage(int which, size_t n, double *fallback)
+{
+  static const bool pageable = [] {
+    const char *e = getenv("SPHCUT_LAMMPS_STAGE");
+    return e && strcmp(e, "pageable") == 0;
+  }();
+  if (pageable) return fallback;
+  if (n > sphcut_stage_cap[which]) {
+    if (!sphcut_stage_buf[0] && !sphcut_stage_buf[1])
+      Kokkos::push_finalize_hook([] {
+        for (int k = 0; k < 2; k++) {
+          if (sphcut_stage_buf[k]) Kokkos::kokkos_free<SphcutStageSpace>(sphcut_stage_buf[k]);
+          sphcut_stage_buf[k] = nullptr;
+          sphcut_stage_cap[k] = 0;
+        }
+      });
+    if (sphcut_stage_buf[which]) Kokkos::kokkos_free<SphcutStageSpace>(sphcut_stage_buf[which]);
+    sphcut_stage_cap[which] = n + n / 2 + 1024;
+    sphcut_stage_buf[which] = static_cast<double *>(
+        Kokkos::kokkos_malloc<SphcutStageSpace>("sphcut:stage", sphcut_stage_cap[which] * sizeof(double)));
+  }
+  return sphcut_stage_buf[which];
+}
+"""
+
 
 def patch_comm(c):
+    if MARK9 not in c:
+        anchor = "using namespace LAMMPS_NS;\n"
+        if c.count(anchor) != 1:
+            sys.exit("fix 9: comm_kokkos.cpp: no 'using namespace LAMMPS_NS;' line")
+        c = c.replace(anchor, anchor + STAGE_FN, 1)
+        c = c.replace("#include", "#include <cstdlib>  // sphcut fix 9\n#include <cstring>\n#include", 1)
     if MARK not in c:
         old = "      if (sendproc[iswap] != me) {\n        if (comm_x_only) {\n"
         if c.count(old) != 1:
@@ -281,11 +330,11 @@ def main(paths):
                 continue
             s = patch_kokkos(s)
         elif name == "comm_kokkos.cpp":
-            if MARK in s and MARK7 in s and MARK8 in s:
+            if MARK in s and MARK7 in s and MARK8 in s and MARK9 in s:
                 continue
             s = patch_comm(s)
         else:
-            sys.exit("fixes 6-8: do not know how to patch %s" % p)
+            sys.exit("fixes 6-9: do not know how to patch %s" % p)
         with open(p, "w") as f:
             f.write(s)
 

@@ -20,8 +20,9 @@
 #   classic  (after strong) its runs on 2 and 4 GPUs with LAMMPS' classic host path for what
 #            MGPU_CLASSIC names (SPHCUT_LAMMPS_CLASSIC_FORWARD=$MGPU_CLASSIC; default 1: all of the
 #            communication; "exchange": the exchange and borders at each reneighbouring;
-#            "buffers": the fixes' and pairs' whole message buffers), the baselines of fixes 6-8 of
-#            tools/build-deps.sh
+#            "buffers": the fixes' and pairs' whole message buffers; "pageable": the messages staged
+#            through LAMMPS' own pageable host buffers, SPHCUT_LAMMPS_STAGE=pageable), the baselines
+#            of fixes 6-9 of tools/build-deps.sh
 #   weak     the same with NZ x N layers on N GPUs (about 4.1 M particles per GPU): efficiency t1 / tN
 # Settings (environment): MGPU_NP (GPU counts, default "1 2 4"; counts above the machine's GPUs are
 # skipped), MGPU_MIGRATE ("device host"), NZ (232), STEPS (200), REBUILD (reneighbour every this many
@@ -243,8 +244,9 @@ strong() { scaling strong; }
 # (SPHCUT_LAMMPS_CLASSIC_FORWARD=1: every communication through its classic host path, the whole x
 # array and each fix's columns to the host and back every step, every atom array at each
 # reneighbouring; MGPU_CLASSIC=exchange: only the exchange and borders; buffers: the fixes' and
-# pairs' whole buffers staged) instead of the device packing with the messages staged through the
-# host (fixes 6-8 of tools/build-deps.sh); run after `strong` (its 1-GPU run is the reference)
+# pairs' whole buffers staged; pageable: the messages through LAMMPS' pageable host buffers) instead
+# of the device packing with the messages staged through page-locked host buffers (fixes 6-9 of
+# tools/build-deps.sh); run after `strong` (its 1-GPU run is the reference)
 classic() {
   mkdir -p $W/scale; cd $W/scale
   local r1="" n what=${MGPU_CLASSIC:-1}
@@ -252,8 +254,13 @@ classic() {
   for n in ${MGPU_NP:-2 4}; do
     [ "$n" -gt 1 ] && [ "$n" -le "$NGPU" ] || continue
     local tag=strong.classic.${what//[^a-z0-9]/_}.$n
-    SPHCUT_LAMMPS_CLASSIC_FORWARD=$what scale_run $n device ${NZ:-232} $tag || continue
-    report "strong, LAMMPS' classic host path for '$what', $n GPU(s)" $tag $n "$r1"
+    if [ "$what" = pageable ]; then
+      SPHCUT_LAMMPS_STAGE=pageable scale_run $n device ${NZ:-232} $tag || continue
+      report "strong, the messages staged through LAMMPS' pageable buffers (fix 9 off), $n GPU(s)" $tag $n "$r1"
+    else
+      SPHCUT_LAMMPS_CLASSIC_FORWARD=$what scale_run $n device ${NZ:-232} $tag || continue
+      report "strong, LAMMPS' classic host path for '$what', $n GPU(s)" $tag $n "$r1"
+    fi
   done
   cd "$ROOT"
 }
