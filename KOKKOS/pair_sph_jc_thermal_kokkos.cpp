@@ -235,9 +235,6 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       } else if (bounded) {
         if (dim == 2) neigh_pass<2, 0, 0, NEIGH_MINB>(inum, any_as);
         else neigh_pass<3, 0, 0, NEIGH_MINB>(inum, any_as);
-      } else if (prefetch) {
-        if (dim == 2) neigh_pass<2, 0, 0, 0, 1>(inum, any_as);
-        else neigh_pass<3, 0, 0, 0, 1>(inum, any_as);
       } else {
         if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
         else neigh_pass<3, 0, 0>(inum, any_as);

@@ -104,12 +104,12 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
   // the one-thread-per-particle pass (neigh_pass, the full list where team_lanes gives 0) compiled
   // with launch bounds: at most 128 threads a block, NEIGH_MINB blocks on a multiprocessor (at most
-  // 168 registers a thread in 3D, no spill): measured on one H200 against the unbounded pass
-  // (bench/gpu/RESULTS.md, "Launch bounds"), the 3D slab at 4.24 M -2 %, the 2D cut at 70k
-  // particles about -10 %.  SPHCUT_PAIR_BOUNDS=0 (environment) runs the unbounded one, as before,
-  // for that comparison.
-  // The one-thread-per-particle pass loads each list entry's index and row head one entry ahead
-  // (PF: their latency overlaps the entry before; sphcut::unpack_j_head / unpack_j_rest): measured
+  // 168 registers a thread in 3D; no spill, 20 bytes with the one-ahead loads below): measured on
+  // one H200 against the unbounded pass (bench/gpu/RESULTS.md, "Launch bounds"), the 3D slab at
+  // 4.24 M -2 %, the 2D cut at 70k particles about -10 %.  SPHCUT_PAIR_BOUNDS=0 (environment)
+  // runs the unbounded one, as before, for that comparison.
+  // The bounded pass loads each list entry's index and row head one entry ahead (PF: their
+  // latency overlaps the entry before; sphcut::unpack_j_head / unpack_j_rest): measured
   // on one H100 (bench/gpu/RESULTS.md, "The pair's list entries loaded one ahead") the pass at
   // 1.06 M particles in 3D -17 %, the step at 4.24 M -5 %.  SPHCUT_PAIR_PREFETCH=0 (environment)
   // loads each entry when it is taken, as before, for that comparison.  (The team pass, one entry
