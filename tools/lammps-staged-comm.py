@@ -78,7 +78,7 @@ MSG_TYPES = """typedef Kokkos::View<double *, LMPHostType::memory_space, Kokkos:
 
 STAGED = """      if (sendproc[iswap] != me && !lmp->kokkos->gpu_aware_flag) {
         // sphcut fix 6: MPI without GPU support: pack on the device, stage the message
-        // through the host halves of the buffers (only the doubles sent and received)
+        // through the host (only the doubles sent and received; fix 9's stage buffers)
         """ + MSG_TYPES + """
         const int nrecv = size_forward_recv[iswap];
         double *const hrecv = sphcut_stage(1,nrecv,k_buf_recv.h_view.data());    // fix 9
@@ -140,8 +140,8 @@ EXCHANGE_OLD = """        MPI_Irecv(k_buf_recv.view<DeviceType>().data(),nrecv1,
         }
 """
 
-EXCHANGE_NEW = """        // sphcut fix 7: MPI without GPU support: the messages staged through the host halves of
-        // the buffers (only the doubles sent and received)
+EXCHANGE_NEW = """        // sphcut fix 7: MPI without GPU support: the messages staged through the host (only
+        // the doubles sent and received; fix 9's stage buffers)
         const bool staged = !lmp->kokkos->gpu_aware_flag;
         """ + MSG_TYPES + """
         double *sbuf = staged ? sphcut_stage(0,nsend,k_buf_send.h_view.data()) : k_buf_send.view<DeviceType>().data();
