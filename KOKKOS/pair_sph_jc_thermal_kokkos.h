@@ -112,8 +112,9 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // latency overlaps the entry before; sphcut::unpack_j_head / unpack_j_rest): measured
   // on one H100 (bench/gpu/RESULTS.md, "The pair's list entries loaded one ahead") the pass at
   // 1.06 M particles in 3D -17 %, the step at 4.24 M -5 %.  SPHCUT_PAIR_PREFETCH=0 (environment)
-  // loads each entry when it is taken, as before, for that comparison.  (The team pass, one entry
-  // ahead per lane, gained nothing at 18k particles in 2D and is not kept.)
+  // loads each entry when it is taken, as before, for that comparison; on a host backend that is
+  // the default (there the 3D cut's step took 5 % longer with them), =1 forces them (the tests).
+  // (The team pass, one entry ahead per lane, gained nothing at 18k particles in 2D: not kept.)
   enum { NEIGH_MINB = 3 };
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
@@ -147,7 +148,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   int tables_ready;
   int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
   int bounded;      // SPHCUT_PAIR_BOUNDS (NEIGH_MINB), 1 where unset
-  int prefetch;     // SPHCUT_PAIR_PREFETCH (PF of neigh_pass), 1 where unset
+  int prefetch;     // SPHCUT_PAIR_PREFETCH (PF of neigh_pass), where unset 1 on a GPU, 0 on the host
   bigint prepacked_step = -1;    // the step whose local rows the fix packed (rows_prepacked)
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
