@@ -158,8 +158,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
   }
   bounded = sphcut::env_switch(lmp, "SPHCUT_PAIR_BOUNDS", "Pair sph/jc-thermal/kk", 1);
   // (the one-ahead loads by default on a GPU only: on host threads the 3D step took 5 % longer)
-  const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  prefetch = sphcut::env_switch(lmp, "SPHCUT_PAIR_PREFETCH", "Pair sph/jc-thermal/kk", on_host ? 0 : 1);
+  prefetch = sphcut::env_switch(lmp, "SPHCUT_PAIR_PREFETCH", "Pair sph/jc-thermal/kk", ON_HOST ? 0 : 1);
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
@@ -434,9 +433,8 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
 
 template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::team_lanes(int inum) const
 {
-  const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   const bool set = lmp->kokkos->neigh_thread_set, on = lmp->kokkos->neigh_thread;
-  if (on_host) return set && on ? 1 : 0;
+  if (ON_HOST) return set && on ? 1 : 0;
   return gpu_lanes(inum, domain->dimension, set, on, lanes_env);
 }
 
@@ -451,9 +449,8 @@ void PairSPHJCThermalKokkos<DeviceType>::neigh_pass_team(int inum, int any_as, i
   const NeighViews nv = neigh_views();
   const int kind = mdl.kernel(), corr = mdl.renormalised(), ntp = atom->ntypes + 1;
   const int hg = mdl.hourglass_coefficient() > 0.0;
-  const bool on_host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  if (on_host) lanes = 1;
-  const int per_team = on_host ? 1 : TEAM_THREADS / lanes;
+  if (ON_HOST) lanes = 1;
+  const int per_team = ON_HOST ? 1 : TEAM_THREADS / lanes;
   typedef Kokkos::TeamPolicy<DeviceType> policy_t;
 
   Kokkos::parallel_for(

@@ -28,6 +28,8 @@ PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
 #include "sphcut_solid.h"
 #include "pair_sph_jc_thermal.h"
 
+#include <type_traits>
+
 namespace sphcut {
 
 // the packed row of particle i (sphcut::pack_row; pack_outside for a particle that is not in the SPH
@@ -116,6 +118,9 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // the default (there the 3D cut's step took 5 % longer with them), =1 forces them (the tests).
   // (The team pass, one entry ahead per lane, gained nothing at 18k particles in 2D: not kept.)
   enum { NEIGH_MINB = 3 };
+  // whether this instance runs on a host backend (one lane in the team pass, no one-ahead loads)
+  static constexpr bool ON_HOST =
+      std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
   // SPHCUT_PAIR_LANES (0: unset); 0 = one thread per particle

@@ -313,8 +313,7 @@ def patch_comm(c):
         anchor = "using namespace LAMMPS_NS;\n"
         if c.count(anchor) != 1:
             sys.exit("fix 8: comm_kokkos.cpp: no 'using namespace LAMMPS_NS;' line")
-        c = c.replace(anchor, anchor + WHOLE_FN, 1)
-        c = c.replace("#include", "#include <cstdlib>  // sphcut fix 8\n#include <cstring>\n#include", 1)
+        c = c.replace(anchor, anchor + WHOLE_FN, 1)    # (getenv, strstr: included with fix 9's function)
     return c
 
 
