@@ -54,6 +54,10 @@
 #            without Tmax and Trake; no fix print) and every 100, in turn OUT_REPS (2) times; then
 #            SPHCUT_OUTPUT_SYNC 0 / 1 at every 10 steps (whole state rows and fix print's ALL_MASK,
 #            or the output columns); with OUT_NZ layers (e.g. 58) the 3D slab the same way
+#   layout   the state row's layout against the integrator's access, without LAMMPS
+#            (bench/gpu/layout/state_layout.cu): the first-half kernel's loads and stores over 4.24 M,
+#            1.06 M and 18,272 rows stored as 504-byte rows (in place), by columns, in blocks of 32,
+#            and as rows staged through shared memory by warps: ms a call
 # Results: $OUT/summary.txt and logs.tar.gz.  Figures: bench/gpu/RESULTS.md, doc/validation.md.
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -618,6 +622,13 @@ ab() {
 # set of ENVAB_SETS (default "SPHCUT_PAIR_BOUNDS=0;SPHCUT_PAIR_BOUNDS=1") on the 2D cut in contact at ENVAB_NY
 # (41 81) across, PROF_STEPS steps (us/step), and on the 3D slab at ENVAB_NZ (232) layers (ms/step);
 # ENVAB_NY= or ENVAB_NZ= (empty) leaves that part out
+layout() {
+  nvcc -O3 -arch=sm_90 -std=c++17 --extended-lambda -o $W/state_layout "$ROOT/bench/gpu/layout/state_layout.cu" \
+    || { say "layout: nvcc failed"; return 0; }
+  local n
+  for n in 4239104 1059776 18272; do "$W/state_layout" $n $([ $n -lt 100000 ] && echo 200 || echo 20) | tee -a "$SUM"; done
+}
+
 envab() {
   cd $W
   local steps=${PROF_STEPS:-2000} sets r k set ny nz
