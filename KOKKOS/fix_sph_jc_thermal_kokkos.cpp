@@ -80,6 +80,65 @@ using namespace FixConst;
 
 namespace {
 
+/* first half of the step (initial_integrate) for particle i on its state row s: the row in the
+   state view (operator()(i), in place) or its copy in the team's scratch (the staged kernel,
+   operator()(team): sphcut::stage_in / stage_out).  The rates are zeroed here, after the
+   predictor has saved them (DRHO_O, ...), instead of in a kernel of their own at pre_force: one
+   launch fewer on steps without reneighbouring (pre_force zeroes them again where atoms may have
+   moved, been exchanged or created).  The pair's rows of the particles are packed here too, from
+   what this kernel just wrote (prepack_allowed): the pair's stress pass then packs only the
+   ghosts.  zero_f: the forces of every local particle zeroed after the half kick has read them
+   (clear_f_active: LAMMPS' force clear of this step skipped, external_force_clear)            */
+template <class DeviceType> struct FirstHalf {
+  typedef DeviceType device_type;
+  typedef ArrayTypes<DeviceType> AT;
+  typename sphcut::AtomTypes<DeviceType>::x x;
+  typename sphcut::AtomTypes<DeviceType>::v v;
+  typename sphcut::AtomTypes<DeviceType>::f f;
+  typename AT::t_int_1d_const mask, type;
+  typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
+  typename AT::t_double_2d state;
+  Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
+  // an attached heat style's Dirichlet groups (set_heat_rules): their predicted temperature here,
+  // after the predictor, instead of in a kernel of the style's own
+  Kokkos::View<const int *, typename DeviceType::memory_space> dbit;
+  Kokkos::View<const double *, typename DeviceType::memory_space> dtemp;
+  int gb, tb, cb, use_rmass, zero_f, hgb, nd, n;
+  double dt, dtfh;
+  sphcut::RowPacker<DeviceType> packer;
+
+  KOKKOS_INLINE_FUNCTION void particle(const int i, double *s) const
+  {
+    if (mask(i) & gb) {
+      const int t = type(i);
+      const double m = use_rmass ? rmass(i) : mass(t);
+      double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
+      double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
+      const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
+      sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), tb, cb), dt, dtfh / m, xi, vi, fi, s);
+      for (int d = 0; d < 3; d++) {
+        x(i, d) = xi[d];
+        v(i, d) = vi[d];
+      }
+    }
+    if (zero_f)
+      for (int d = 0; d < 3; d++) f(i, d) = 0.0;
+    sphcut::zero_rates(s);
+    if (nd) sphcut::hold_predicted_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, s);
+    if (packer.active) packer(i, s);
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const { particle(i, &state(i, 0)); }
+  KOKKOS_INLINE_FUNCTION void operator()(const typename Kokkos::TeamPolicy<DeviceType>::member_type &t) const
+  {
+    const int first = t.league_rank() * sphcut::STAGE_ROWS;
+    const int cnt = n - first < sphcut::STAGE_ROWS ? n - first : sphcut::STAGE_ROWS;
+    double *sh = sphcut::stage_in(t, state, first, cnt);
+    const int ncol = (int) state.extent(1);
+    for (int l = t.team_rank(); l < cnt; l += t.team_size()) particle(first + l, sh + l * ncol);
+    sphcut::stage_out(t, state, first, cnt, sh);
+  }
+};
+
 /* second half of the step with the two sums the host needs: the plastic
    work of the step and this rank's Courant limit (computed from the final
    v and T, as the CPU fix does at end_of_step); written into the device
@@ -283,6 +342,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   prepack = pairkk && sphcut::env_switch(lmp, "SPHCUT_PAIR_PREPACK", "Fix sph/jc-thermal/kk", 1) && prepack_allowed();
   output_sync = sphcut::env_switch(lmp, "SPHCUT_OUTPUT_SYNC", "Fix sph/jc-thermal/kk", 1);
   clear_f = sphcut::env_switch(lmp, "SPHCUT_FORCE_CLEAR", "Fix sph/jc-thermal/kk", 1) && force_clear_allowed();
+  // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1 forces)
+  stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1);
   // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
   // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
@@ -460,57 +521,37 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   sphcut::FencedTimer timer(cpu_time);
   atomKK->sync(execution_space, datamask_read);
   k_state.template sync<DeviceType>();
-  auto x = atomKK->k_x.view<DeviceType>();
-  auto v = atomKK->k_v.view<DeviceType>();
-  auto f = atomKK->k_f.view<DeviceType>();
-  auto mask = atomKK->k_mask.view<DeviceType>();
-  auto type = atomKK->k_type.view<DeviceType>();
-  auto rmass = atomKK->k_rmass.view<DeviceType>();
-  auto mass = atomKK->k_mass.view<DeviceType>();
-  auto st = k_state.template view<DeviceType>();
-  auto mat = d_mat;
-  const int gb = groupbit, tb = toolbit, cb = clampbit, use_rmass = atom->rmass_flag;
-  const double dt = dtv, dtfh = dtf;
-  // an attached heat style's Dirichlet groups (set_heat_rules): their predicted temperature here,
-  // after the predictor, instead of in a kernel of the style's own
-  auto dbit = d_dirbit;
-  auto dtemp = d_dirtemp;
-  const int hgb = heat_rules.gb, nd = (int) heat_rules.bits.size();
-  // the rates are zeroed here, after the predictor has saved them (DRHO_O, ...), instead of in a
-  // kernel of their own at pre_force: one launch fewer on steps without reneighbouring (pre_force
-  // zeroes them again where atoms may have moved, been exchanged or created).  The pair's rows of
-  // the particles are packed here too, from what this kernel just wrote (prepack_allowed): the
-  // pair's stress pass then packs only the ghosts
-  sphcut::RowPacker<DeviceType> packer;
-  if (prepack) packer = pairkk->packer_for_fix();
-  // the forces of every local particle zeroed after the half kick has read them (clear_f_active):
-  // LAMMPS' force clear of this step skipped (external_force_clear)
-  const int zero_f = clear_f_active;
-  Kokkos::parallel_for("sphcut:sph:initial_integrate",
-      sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) {
-        if (mask(i) & gb) {
-          const int t = type(i);
-          const double m = use_rmass ? rmass(i) : mass(t);
-          double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
-          double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
-          const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
-          sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), tb, cb), dt, dtfh / m, xi, vi,
-                                       fi, &st(i, 0));
-          for (int d = 0; d < 3; d++) {
-            x(i, d) = xi[d];
-            v(i, d) = vi[d];
-          }
-        }
-        if (zero_f)
-          for (int d = 0; d < 3; d++) f(i, d) = 0.0;
-        sphcut::zero_rates(&st(i, 0));
-        if (nd) sphcut::hold_predicted_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, &st(i, 0));
-        if (packer.active) packer(i);
-      });
+  FirstHalf<DeviceType> k;
+  k.x = atomKK->k_x.view<DeviceType>();
+  k.v = atomKK->k_v.view<DeviceType>();
+  k.f = atomKK->k_f.view<DeviceType>();
+  k.mask = atomKK->k_mask.view<DeviceType>();
+  k.type = atomKK->k_type.view<DeviceType>();
+  k.rmass = atomKK->k_rmass.view<DeviceType>();
+  k.mass = atomKK->k_mass.view<DeviceType>();
+  k.state = k_state.template view<DeviceType>();
+  k.mat = d_mat;
+  k.gb = groupbit;
+  k.tb = toolbit;
+  k.cb = clampbit;
+  k.use_rmass = atom->rmass_flag;
+  k.dt = dtv;
+  k.dtfh = dtf;
+  k.dbit = d_dirbit;
+  k.dtemp = d_dirtemp;
+  k.hgb = heat_rules.gb;
+  k.nd = (int) heat_rules.bits.size();
+  if (prepack) k.packer = pairkk->packer_for_fix();
+  const int zero_f = k.zero_f = clear_f_active;
+  k.n = atom->nlocal;
+  if (staged(k.n))
+    Kokkos::parallel_for("sphcut:sph:initial_integrate", sphcut::stage_policy<DeviceType>(k.n, NCOL), k);
+  else
+    Kokkos::parallel_for("sphcut:sph:initial_integrate", sphcut::range<DeviceType>(0, k.n), k);
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, datamask_modify | (zero_f ? F_MASK : 0));
   rates_zeroed_step = update->ntimestep;
-  if (packer.active) pairkk->rows_prepacked(update->ntimestep);
+  if (k.packer.active) pairkk->rows_prepacked(update->ntimestep);
 }
 
 /* ---------------------------------------------------------------------- */

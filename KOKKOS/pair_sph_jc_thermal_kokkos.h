@@ -42,15 +42,16 @@ template <class DeviceType> struct RowPacker {
   AtomViews<DeviceType> av;
   int gb = 0, tb = 0, cb = 0, dim = 3, any_as = 0, use_rmass = 0;
   int active = 0;    // (packer_for_fix: 0 when the pair packs every row itself this step)
-  KOKKOS_INLINE_FUNCTION void operator()(const int i) const
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const { (*this)(i, &av.st(i, 0)); }
+  // the same from particle i's state row s (a copy of it: the integrator's staged kernel)
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, const double *s) const
   {
     const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
     if (!(av.mask(i) & gb) || role_from_mask(av.mask(i), tb, cb) == StateLayout::TOOL) {
       pack_outside(xi, av.type(i), &pk(i, 0));    // not in the SPH solid: its neighbours skip it
       return;
     }
-    pack_row(mt(av.type(i)), dim, any_as, xi, av.type(i), &av.st(i, 0), use_rmass ? av.rmass(i) : av.mass(av.type(i)),
-             &pk(i, 0));
+    pack_row(mt(av.type(i)), dim, any_as, xi, av.type(i), s, use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
   }
 };
 

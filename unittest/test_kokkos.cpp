@@ -897,6 +897,63 @@ TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
   expect_same_cut_end(end[1], end[0]);
 }
 
+// fix sph/jc-thermal/kk's first-half kernel on team-staged copies of the state rows (the default on
+// a GPU from 500,000 particles; SPHCUT_STAGE_ROWS=1 here, on this host backend one thread a team):
+// the 2D cut in contact (the heat rules, the pair's rows packed in the first half) and the 3D
+// collision give the state of the kernel in place, particle by particle, and so do the step's sums
+// (dt, plastic work, the heat through a Dirichlet layer); anything but 0 or 1 is refused by name
+TEST(KokkosThermal, StagedRowsMatchInPlace)
+{
+  const int steps = 600;
+  CutEnd end[2];
+  Snapshot snap[2];
+  double sums[2][3];    // dt, the plastic work, the Dirichlet heat
+  for (const int staged : {1, 0}) {
+    const auto l = counted_cut("0.6", steps, "SPHCUT_STAGE_ROWS", staged ? "1" : "0");
+    end[staged] = cut_end(*l);
+    snap[staged] = take(*l);
+    sums[staged][0] = l->equal("f_sph[1]");
+    sums[staged][1] = l->equal("f_sph[4]");
+    sums[staged][2] = l->equal("f_heat[3]");
+    std::printf("[ staged   ] SPHCUT_STAGE_ROWS=%d: Fc %.15g, Ft %.15g, internal energy %.15g; dt %.15g, plastic "
+                "work %.15g, Dirichlet heat %.15g\n", staged, end[staged].fc, end[staged].ft, end[staged].eint,
+                sums[staged][0], sums[staged][1], sums[staged][2]);
+  }
+  EXPECT_GT(end[1].fc, 20.0);    // in contact
+  expect_same_cut_end(end[1], end[0]);
+  expect_same(snap[0], snap[1], "staged cut");
+  EXPECT_EQ(sums[1][0], sums[0][0]);    // a minimum: the same in any order
+  EXPECT_GT(sums[0][1], 0.0);
+  EXPECT_NEAR(sums[1][1], sums[0][1], 1e-12 * sums[0][1]);
+  // the Dirichlet heat (a block heated from its bottom layer; the cut's clamp has not warmed yet)
+  double qdir[2];
+  for (const int staged : {1, 0}) {
+    setenv("SPHCUT_STAGE_ROWS", staged ? "1" : "0", 1);
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds({"units si", "dimension 3", "boundary f f f", "newton off", "atom_style atomic", "atom_modify map array",
+            "lattice sc 2e-4", "region box block -2 8 -2 8 -2 8", "create_box 1 box",
+            "region a block -0.01 5.01 -0.01 5.01 -0.01 5.01", "create_atoms 1 region a",
+            "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
+            "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
+            "fix sph all sph/jc-thermal temp 300 cfl 0.3", "fix heat all heat/fmfs every 5 dirichlet bot 900",
+            "thermo 0", "run 50"});
+    unsetenv("SPHCUT_STAGE_ROWS");
+    qdir[staged] = l.equal("f_heat[3]");
+  }
+  std::printf("[ staged   ] Dirichlet heat of the heated block: %.15g / %.15g J\n", qdir[1], qdir[0]);
+  EXPECT_GT(qdir[0], 0.0);
+  EXPECT_NEAR(qdir[1], qdir[0], 1e-12 * qdir[0]);
+  setenv("SPHCUT_STAGE_ROWS", "1", 1);
+  const Snapshot staged3 = run(KK_FULL, "off", 3, 100);
+  unsetenv("SPHCUT_STAGE_ROWS");
+  expect_same(run({}, "on", 3, 100), staged3, "kk staged 3D");
+  setenv("SPHCUT_STAGE_ROWS", "2", 1);
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  l.cmds(collision("off"));
+  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_STAGE_ROWS=2 is not 0 or 1"));
+  unsetenv("SPHCUT_STAGE_ROWS");
+}
+
 // LAMMPS' launch of its force clear (the Zero functor) outside the setups
 int zero_launches()
 {
