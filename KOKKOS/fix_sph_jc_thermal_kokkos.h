@@ -100,6 +100,17 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   // (exchange, restart, sort) still copies them.  (Public: it launches a device lambda)
   void sync_outputs_host();
 
+  // the first-half kernel on team-staged copies of the state rows (sphcut::stage_policy): on a GPU
+  // from STAGE_MIN local particles (on one H100 the 3D step at 1.06 and 4.24 M particles 3-5 %
+  // faster, the 2D cut at 18k and 70k particles 6-12 % slower: bench/gpu/RESULTS.md, "The first
+  // half on staged rows"); SPHCUT_STAGE_ROWS (init: 0 or 1, -1 when unset) overrides, for the A/B
+  // and the tests.  (The corrector on staged rows was slower, 5.2-5.7 against 3.2 ms a call at
+  // 4.24 M: not kept.)
+  static constexpr int STAGE_MIN = 500000;
+  // the choice for n local particles: env the value of SPHCUT_STAGE_ROWS (-1: unset), host whether
+  // the instance runs on a host backend
+  static bool stage_choice(int n, bool host, int env) { return env >= 0 ? env == 1 : !host && n >= STAGE_MIN; }
+
   void grow_arrays(int) override;
   void set_arrays(int) override;
   void copy_arrays(int, int, int) override;
@@ -149,22 +160,15 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   // pre_force's after a reneighbouring, instead of LAMMPS' own launch (Verlet's external_force_clear,
   // set from setup to post_run; init: SPHCUT_FORCE_CLEAR, force_clear_allowed)
   int clear_f = 0;
-  // the first-half kernel on team-staged copies of the state rows (sphcut::stage_policy): on a GPU
-  // from STAGE_MIN local particles (on one H100 the 3D step at 1.06 and 4.24 M particles 3-5 %
-  // faster, the 2D cut at 18k and 70k particles 6-12 % slower: bench/gpu/RESULTS.md, "The first
-  // half on staged rows"); SPHCUT_STAGE_ROWS (init: 0 or 1, -1 when unset) overrides, for the A/B
-  // and the tests.  (The corrector on staged rows was slower in 3D too: not kept.)
-  static constexpr int STAGE_MIN = 500000;
-  int stage_rows = -1;
+  int clear_f_active = 0;          // this run's setup set the integrator's flag (post_run restores it)
+  int saved_force_clear = 0;       // the flag before
+  int stage_rows = -1;    // the first-half kernel on staged rows (stage_choice): SPHCUT_STAGE_ROWS, -1 unset
   bool staged(int n) const
   {
-    const int on = stage_rows >= 0 ? stage_rows : (!ON_HOST && n >= STAGE_MIN);
-    return on && sphcut::rows_contiguous(k_state.template view<DeviceType>());
+    return stage_choice(n, ON_HOST, stage_rows) && sphcut::rows_contiguous(k_state.template view<DeviceType>());
   }
   static constexpr bool ON_HOST =
       std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
-  int clear_f_active = 0;          // this run's setup set the integrator's flag (post_run restores it)
-  int saved_force_clear = 0;       // the flag before
   bool force_clear_allowed() const;
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
   bigint gather_step = -1;
