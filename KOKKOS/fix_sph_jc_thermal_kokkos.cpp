@@ -103,19 +103,19 @@ template <class DeviceType> struct FirstHalf {
   // after the predictor, instead of in a kernel of the style's own
   Kokkos::View<const int *, typename DeviceType::memory_space> dbit;
   Kokkos::View<const double *, typename DeviceType::memory_space> dtemp;
-  int gb, tb, cb, use_rmass, zero_f, hgb, nd, n;
-  double dt, dtfh;
+  int groupbit, toolbit, clampbit, use_rmass, zero_f, hgb, nd, n;
+  double dt, dtf;
   sphcut::RowPacker<DeviceType> packer;
 
   KOKKOS_INLINE_FUNCTION void particle(const int i, double *s) const
   {
-    if (mask(i) & gb) {
+    if (mask(i) & groupbit) {
       const int t = type(i);
       const double m = use_rmass ? rmass(i) : mass(t);
       double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
       double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
       const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
-      sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), tb, cb), dt, dtfh / m, xi, vi, fi, s);
+      sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), toolbit, clampbit), dt, dtf / m, xi, vi, fi, s);
       for (int d = 0; d < 3; d++) {
         x(i, d) = xi[d];
         v(i, d) = vi[d];
@@ -516,13 +516,10 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::check_close_
 
 /* ---------------------------------------------------------------------- */
 
-template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_integrate(int)
+/* the views and constants the integrator's two kernels (FirstHalf, SecondHalf) share */
+
+template <class DeviceType> template <class K> void FixSPHJCThermalKokkos<DeviceType>::integrator_views(K &k)
 {
-  sphcut::FencedTimer timer(cpu_time);
-  atomKK->sync(execution_space, datamask_read);
-  k_state.template sync<DeviceType>();
-  FirstHalf<DeviceType> k;
-  k.x = atomKK->k_x.view<DeviceType>();
   k.v = atomKK->k_v.view<DeviceType>();
   k.f = atomKK->k_f.view<DeviceType>();
   k.mask = atomKK->k_mask.view<DeviceType>();
@@ -531,12 +528,24 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   k.mass = atomKK->k_mass.view<DeviceType>();
   k.state = k_state.template view<DeviceType>();
   k.mat = d_mat;
-  k.gb = groupbit;
-  k.tb = toolbit;
-  k.cb = clampbit;
+  k.groupbit = groupbit;
+  k.toolbit = toolbit;
+  k.clampbit = clampbit;
   k.use_rmass = atom->rmass_flag;
   k.dt = dtv;
-  k.dtfh = dtf;
+  k.dtf = dtf;
+}
+
+/* ---------------------------------------------------------------------- */
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_integrate(int)
+{
+  sphcut::FencedTimer timer(cpu_time);
+  atomKK->sync(execution_space, datamask_read);
+  k_state.template sync<DeviceType>();
+  FirstHalf<DeviceType> k;
+  integrator_views(k);
+  k.x = atomKK->k_x.view<DeviceType>();
   k.dbit = d_dirbit;
   k.dtemp = d_dirtemp;
   k.hgb = heat_rules.gb;
@@ -623,22 +632,9 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   atomKK->sync(execution_space, datamask_read);
   k_state.template sync<DeviceType>();
   SecondHalf<DeviceType> k;
-  k.v = atomKK->k_v.view<DeviceType>();
-  k.f = atomKK->k_f.view<DeviceType>();
-  k.mask = atomKK->k_mask.view<DeviceType>();
-  k.type = atomKK->k_type.view<DeviceType>();
-  k.rmass = atomKK->k_rmass.view<DeviceType>();
-  k.mass = atomKK->k_mass.view<DeviceType>();
-  k.state = k_state.template view<DeviceType>();
-  k.mat = d_mat;
+  integrator_views(k);
   k.h = d_h;
-  k.groupbit = groupbit;
-  k.toolbit = toolbit;
-  k.clampbit = clampbit;
-  k.use_rmass = atom->rmass_flag;
   k.want_dt = cfl > 0.0;
-  k.dt = dtv;
-  k.dtf = dtf;
   k.cfl = cfl;
   k.vmax = vmax;
   k.tmax = tmax;

@@ -170,6 +170,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   static constexpr bool ON_HOST =
       std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   bool force_clear_allowed() const;
+  template <class K> void integrator_views(K &k);    // (.cpp: FirstHalf, SecondHalf)
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
   bigint gather_step = -1;
   const void *gather_owner = nullptr;

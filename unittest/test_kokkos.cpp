@@ -774,6 +774,19 @@ void expect_same_cut_end(const CutEnd &a, const CutEnd &b)
   EXPECT_NEAR(a.eint, b.eint, 3e-10 * fabs(b.eint));
 }
 
+// a steel block of 6^3 particles heated from its bottom layer (fix heat/fmfs dirichlet bot 900),
+// adaptive dt, run for nsteps
+std::vector<std::string> heated_block(int nsteps)
+{
+  return {"units si", "dimension 3", "boundary f f f", "newton off", "atom_style atomic", "atom_modify map array",
+          "lattice sc 2e-4", "region box block -2 8 -2 8 -2 8", "create_box 1 box",
+          "region a block -0.01 5.01 -0.01 5.01 -0.01 5.01", "create_atoms 1 region a",
+          "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
+          "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
+          "fix sph all sph/jc-thermal temp 300 cfl 0.3", "fix heat all heat/fmfs every 5 dirichlet bot 900",
+          "thermo 0", "run " + std::to_string(nsteps)};
+}
+
 // the number of particles fix contact/tri-penalty/kk id evaluated last (its extract "near")
 const int *contact_near(Lammps &l, const char *id)
 {
@@ -792,13 +805,7 @@ const int *contact_near(Lammps &l, const char *id)
 TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
 {
   Lammps l(MPI_COMM_WORLD, KK_FULL);
-  l.cmds({"units si", "dimension 3", "boundary f f f", "newton off", "atom_style atomic", "atom_modify map array",
-          "lattice sc 2e-4", "region box block -2 8 -2 8 -2 8", "create_box 1 box",
-          "region a block -0.01 5.01 -0.01 5.01 -0.01 5.01", "create_atoms 1 region a",
-          "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
-          "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
-          "fix sph all sph/jc-thermal temp 300 cfl 0.3", "fix heat all heat/fmfs every 5 dirichlet bot 900",
-          "thermo 0", "run 0"});
+  l.cmds(heated_block(0));
   launches.clear();
   {
     CountLaunches count(l.lmp);
@@ -946,13 +953,7 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   for (const int staged : {1, 0}) {
     setenv("SPHCUT_STAGE_ROWS", staged ? "1" : "0", 1);
     Lammps l(MPI_COMM_WORLD, KK_FULL);
-    l.cmds({"units si", "dimension 3", "boundary f f f", "newton off", "atom_style atomic", "atom_modify map array",
-            "lattice sc 2e-4", "region box block -2 8 -2 8 -2 8", "create_box 1 box",
-            "region a block -0.01 5.01 -0.01 5.01 -0.01 5.01", "create_atoms 1 region a",
-            "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
-            "pair_style sph/jc-thermal", "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
-            "fix sph all sph/jc-thermal temp 300 cfl 0.3", "fix heat all heat/fmfs every 5 dirichlet bot 900",
-            "thermo 0", "run 50"});
+    l.cmds(heated_block(50));
     unsetenv("SPHCUT_STAGE_ROWS");
     qdir[staged] = l.equal("f_heat[3]");
   }
