@@ -167,7 +167,7 @@ KOKKOS_INLINE_FUNCTION void stage_out(const Member &t, const View &st, int first
 // whether the rows of a state view are contiguous (what stage_in / stage_out assume)
 template <class View> inline bool rows_contiguous(const View &st)
 {
-  return st.extent(0) < 2 || (st.stride_1() == 1 && st.stride_0() == st.extent(1));
+  return st.extent(0) < 2 || (st.stride(1) == 1 && st.stride(0) == st.extent(1));
 }
 
 // the integrator's flag that it leaves the force clear to someone else (Integrate's protected

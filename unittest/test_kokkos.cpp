@@ -933,6 +933,8 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   double sums[2][3];    // dt, the plastic work, the Dirichlet heat
   for (const int staged : {1, 0}) {
     const auto l = counted_cut("0.6", steps, "SPHCUT_STAGE_ROWS", staged ? "1" : "0");
+    EXPECT_EQ(launches["sphcut:sph:initial_integrate_staged"], staged ? steps : 0);    // the kernel taken
+    EXPECT_EQ(launches["sphcut:sph:initial_integrate"], staged ? 0 : steps);
     end[staged] = cut_end(*l);
     snap[staged] = take(*l);
     sums[staged][0] = l->equal("f_sph[1]");
