@@ -77,7 +77,7 @@ profile() {
   command -v ncu > /dev/null || { say "profile: no ncu"; return 0; }
   mkdir -p /tmp/prof; cd /tmp/prof
   # Kokkos names every kernel cuda_parallel_launch_*: select by the functor in the demangled name
-  timeout 400 ncu --kernel-name-base demangled --kernel-name regex:"${PROFILE_KERNELS:-full_pass|SecondHalf|initial_integrate|stress_pass}" \
+  timeout 400 ncu --kernel-name-base demangled --kernel-name regex:"${PROFILE_KERNELS:-full_pass|SecondHalf|FirstHalf|initial_integrate|stress_pass}" \
     --launch-skip 8 --launch-count "${PROFILE_COUNT:-4}" \
     --section SpeedOfLight --section Occupancy --section LaunchStats --section MemoryWorkloadAnalysis \
     "$BIN" $GPU -in "$ROOT/bench/gpu/in.block" -var nx 80 -var steps 10 -log none > ncu.txt 2>&1
