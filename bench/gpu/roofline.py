@@ -2,8 +2,9 @@
 """Roofline of the 3D cutting step's kernels on one H100 (issue 26): each kernel's FP64 rate
 against its arithmetic intensity, per DRAM byte and per L1 byte, beside the H100's limits.
 
-The kernel times are measured (bench/gpu/RESULTS.md, "The 3D cutting step kernel by kernel":
-kp_timer, each kernel synchronised, the periodic slab of 4,239,104 particles on an H100); the
+The kernel times are the latest measured (bench/gpu/RESULTS.md, "Where the 3D step goes now" and
+"The first half on staged rows": kp_timer, each kernel synchronised, the periodic slab of
+4,239,104 particles on an H100, 2026-11-27); the
 operations and bytes per particle are counts from the code and the Nsight Compute profile of the
 pair kernel ("The mechanical step"), not measurements: they place a kernel within a factor of
 about two. Writes the table (markdown) to stdout and the figure as SVG (no plotting library
@@ -24,16 +25,17 @@ PARTICLES = 4239104
 # kernel, ms per call, FP64 operations a particle, DRAM bytes a particle, L1 bytes a particle,
 # where the counts come from
 KERNELS = [
-    ("pair:neigh_pass", 16.07, 57 * 250, 1000, 100 * (4 + 32) + 57 * 128,
+    ("pair:neigh_pass", 13.27, 57 * 250, 1000, 100 * (4 + 32) + 57 * 128,
      "57 pairs x 250 operations; DRAM from Nsight (155 GB/s at 1 M); L1: 100 list entries (index, "
      "position and type), 57 rows of 128 bytes"),
-    ("heat:exchange", 26.9, 100 * 30, 700, 100 * (4 + 48 + 16),
+    ("heat:exchange", 27.35, 100 * 30, 700, 100 * (4 + 48 + 16),
      "100 list entries: the heat row (48 bytes) and a pair of weights; about 30 operations each"),
-    ("heat:weights", 19.6, 100 * 40 + 200, 600, 100 * (4 + 48),
+    ("heat:weights", 19.89, 100 * 40 + 200, 600, 100 * (4 + 48),
      "100 list entries: the moments (about 40 operations each) and a 4x4 solve"),
-    ("sph:initial_integrate", 3.75, 500, 504 + 400 + 72 + 48, 0,
-     "the state row read (504 bytes) and mostly written, x, v, f; the predictor and the radial return"),
-    ("sph:final_integrate", 3.12, 500, 504 + 300 + 72 + 24, 0,
+    ("sph:initial_integrate_staged", 3.91, 500, 504 + 504 + 192 + 72 + 72, 0,
+     "the state row read and written whole (staged), x, v, f read and written, the pair's packed row "
+     "(192 bytes); the predictor and the radial return"),
+    ("sph:final_integrate", 3.15, 500, 504 + 300 + 72 + 24, 0,
      "the state row, the corrector and the radial return, the dt reduction"),
 ]
 
