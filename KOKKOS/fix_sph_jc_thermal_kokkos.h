@@ -167,8 +167,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   {
     return stage_choice(n, ON_HOST, stage_rows) && sphcut::rows_contiguous(k_state.template view<DeviceType>());
   }
-  static constexpr bool ON_HOST =
-      std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
+  static constexpr bool ON_HOST = sphcut::on_host_backend<DeviceType>();
   bool force_clear_allowed() const;
   template <class K> void integrator_views(K &k);    // (.cpp: FirstHalf, SecondHalf)
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style

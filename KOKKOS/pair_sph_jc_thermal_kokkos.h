@@ -28,8 +28,6 @@ PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
 #include "sphcut_solid.h"
 #include "pair_sph_jc_thermal.h"
 
-#include <type_traits>
-
 namespace sphcut {
 
 // the packed row of particle i (sphcut::pack_row; pack_outside for a particle that is not in the SPH
@@ -120,8 +118,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // (The team pass, one entry ahead per lane, gained nothing at 18k particles in 2D: not kept.)
   enum { NEIGH_MINB = 3 };
   // whether this instance runs on a host backend (one lane in the team pass, no one-ahead loads)
-  static constexpr bool ON_HOST =
-      std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
+  static constexpr bool ON_HOST = sphcut::on_host_backend<DeviceType>();
   int team_lanes(int inum) const;
   // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
   // SPHCUT_PAIR_LANES (0: unset); 0 = one thread per particle

@@ -124,6 +124,13 @@ template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
                                        Kokkos::Experimental::WorkItemProperty::HintLightWeight);
 }
 
+// whether a style instance on DeviceType runs on a host backend (LAMMPS' host execution space:
+// one lane, no one-ahead loads, no staged rows by default)
+template <class DeviceType> constexpr bool on_host_backend()
+{
+  return std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
+}
+
 // the staged kernel of fix sph/jc-thermal/kk (initial_integrate): a team takes
 // STAGE_ROWS consecutive particles, copies their state rows (contiguous in the LayoutRight view)
 // into its scratch with loads of consecutive doubles across its threads, each thread integrates its
@@ -133,9 +140,8 @@ template <class DeviceType, int MINB = 0> inline auto range(int begin, int end)
 constexpr int STAGE_ROWS = 32;
 template <class DeviceType> inline auto stage_policy(int n, int ncol)
 {
-  const bool host = std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
   auto p = Kokkos::Experimental::require(
-      Kokkos::TeamPolicy<DeviceType>((n + STAGE_ROWS - 1) / STAGE_ROWS, host ? 1 : STAGE_ROWS),
+      Kokkos::TeamPolicy<DeviceType>((n + STAGE_ROWS - 1) / STAGE_ROWS, on_host_backend<DeviceType>() ? 1 : STAGE_ROWS),
       Kokkos::Experimental::WorkItemProperty::HintLightWeight);
   p.set_scratch_size(0, Kokkos::PerTeam(STAGE_ROWS * ncol * sizeof(double)));
   return p;
