@@ -251,6 +251,48 @@ TEST(Cutting, RestartContinuesThe3DCut)
   }
 }
 
+// -var length: the workpiece's length; 0 sizes it to the cut, max(1.5 cut, cut + 0.5 mm) (the
+// paper cuts 2/3 of its 3 mm workpiece so that the clamped far end does not reach the chip): the
+// particles of the workpiece reach round(L/dx) spacings, in 2D and in 3D; the default stays the
+// paper's 3 mm whatever the cut.  (A length not longer than the cut stops the input:
+// test_example_length_error.)
+TEST(Cutting, WorkpieceSizedToTheCut)
+{
+  struct Case {
+    const char *example, *cut, *length;
+    double L;
+  };
+  const Case cases[] = {{"cutting-2d-ti6al4v", "0.12e-3", "0", 0.62e-3},
+                        {"cutting-2d-ti6al4v", "1.0e-3", "0", 1.5e-3},
+                        {"cutting-2d-ti6al4v", "2.0e-3", "0", 3.0e-3},
+                        {"cutting-2d-ti6al4v", "0.12e-3", "", 3.0e-3},
+                        {"cutting-3d-ti6al4v", "0.5e-3", "0", 1.0e-3},
+                        {"cutting-3d-ti6al4v", "0.5e-3", "1.2e-3", 1.2e-3}};
+  const double H = 0.3e-3;
+  for (const Case &c : cases) {
+    const bool d3 = std::string(c.example).find("3d") != std::string::npos;
+    const int ny = d3 ? 6 : 11;
+    Lammps l;
+    std::vector<std::string> v = {"variable ny index " + std::to_string(ny), "variable nz index 3",
+                                  "variable sides index free", std::string("variable cut index ") + c.cut,
+                                  "variable dumpevery index 0", "variable steps index 1"};
+    if (*c.length) v.push_back(std::string("variable length index ") + c.length);
+    l.cmds(v);
+    l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/" + c.example + "/in.cutting").c_str());
+    const double dx = H / (ny - 1);
+    auto *atom = l.lmp->atom;
+    double xmax = -1.0, all = 0.0;
+    for (int i = 0; i < atom->nlocal; i++)
+      if (atom->type[i] == 1) xmax = std::max(xmax, atom->x[i][0]);
+    MPI_Allreduce(&xmax, &all, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    std::printf("[ length   ] %s, cut %s, length %s: L %.4g mm, the workpiece to x = %.4g mm (%.0f spacings)\n",
+                c.example, c.cut, *c.length ? c.length : "(default)", 1e3 * l.equal("v_L"), 1e3 * all, all / dx);
+    EXPECT_NEAR(l.equal("v_L"), c.L, 1e-12) << c.example << " cut " << c.cut;
+    // (the particles sit on the lattice at most a step of the tool's approach from their start)
+    EXPECT_NEAR(all, std::round(c.L / dx) * dx, 0.05 * dx) << c.example << " cut " << c.cut;
+  }
+}
+
 // -var balance rcb (recursive bisection, comm_style tiled: 1.02x the mean load on the busiest of
 // 16 ranks at 81 across, against 1.41x with shift) runs the input's path and gives the cut of
 // the default shift (one rank here; on 16 oversubscribed ranks the forces after 20 steps agreed
