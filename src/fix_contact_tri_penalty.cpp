@@ -1005,9 +1005,14 @@ void FixContactTriPenalty::write_restart(FILE *fp)
 {
   double loc[5] = {q_work, q_tool, q_tool_lost, tool_work, contact_diss}, tot[5];
   MPI_Allreduce(loc, tot, 5, MPI_DOUBLE, MPI_SUM, world);
-  // version 2: a NaN tag, the version, the 10 values of version 1 (no tag), the tool fields
-  std::vector<double> list = {std::nan(""), 2.0, disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2],
+  // version 3: a NaN tag, the version, the 10 values of version 1 (no tag), the tool's fingerprint
+  // (tool_fingerprint: restart() checks that the input gives the same tool), the tool fields
+  // (version 2 had no fingerprint)
+  std::vector<double> list = {std::nan(""), 3.0, disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2],
                               tot[3], tot[4], dt_last};
+  double fp_[NFINGER];
+  tool_fingerprint(fp_);
+  list.insert(list.end(), fp_, fp_ + NFINGER);
   fields_write_restart(list);    // collective
   if (comm->me == 0) {
     int size = (int) (list.size() * sizeof(double));
@@ -1020,8 +1025,9 @@ void FixContactTriPenalty::restart(char *buf)
 {
   restored = 1;
   const double *list = (const double *) buf;
-  const bool v2 = std::isnan(list[0]);
-  if (v2) list += 2;
+  const bool tagged = std::isnan(list[0]);
+  const int version = tagged ? (int) list[1] : 1;
+  if (tagged) list += 2;
   for (int k = 0; k < 3; k++) disp[k] = list[k];
   tool_temp = list[3];
   const int me0 = comm->me == 0;
@@ -1031,7 +1037,35 @@ void FixContactTriPenalty::restart(char *buf)
   tool_work = me0 ? list[7] : 0.0;
   contact_diss = me0 ? list[8] : 0.0;
   dt_last = list[9];
-  if (v2) fields_restart(list + 10);
+  if (version >= 3) check_fingerprint(list + 10);
+  if (version >= 2) fields_restart(list + 10 + (version >= 3 ? NFINGER : 0));
+}
+
+// what restart files keep of the tool: its elements and the bounding box of their vertices in the
+// tool frame (placed by the keywords, before the run's displacement)
+void FixContactTriPenalty::tool_fingerprint(double *fp) const
+{
+  fp[0] = (double) elem.size();
+  sphcut::bounding_box(elem, fp + 1, fp + 4);
+}
+
+// a continued run must build the tool that wrote the restart file: the displacement and the
+// contact state in it are relative to that tool (in the cutting examples the insert is placed
+// from the workpiece's length and the tool's start: another -var length, cut or xstart would put
+// it elsewhere)
+void FixContactTriPenalty::check_fingerprint(const double *saved) const
+{
+  double now[NFINGER];
+  tool_fingerprint(now);
+  const double size = sphcut::bounding_diagonal(elem);
+  bool same = saved[0] == now[0];
+  for (int k = 1; k < NFINGER; k++) same = same && fabs(saved[k] - now[k]) <= 1.0e-9 * size;
+  if (!same)
+    error->all(FLERR, "Fix contact/tri-penalty {}: the tool differs from the one in the restart file (vertex "
+               "coordinates {:.6g} .. {:.6g}, {:.6g} .. {:.6g}, {:.6g} .. {:.6g} in {} values there; {:.6g} .. {:.6g}, "
+               "{:.6g} .. {:.6g}, {:.6g} .. {:.6g} in {} here): the input shapes or places it differently (in the cutting examples: another -var length, "
+               "cut or xstart than the run that wrote the file)", id, saved[1], saved[4], saved[2], saved[5],
+               saved[3], saved[6], (long) saved[0], now[1], now[4], now[2], now[5], now[3], now[6], (long) now[0]);
 }
 
 double FixContactTriPenalty::memory_usage()

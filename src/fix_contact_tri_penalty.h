@@ -168,6 +168,10 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   void fields_setup();                          // after the geometry: facets, vector and array sizes
   void fields_step();                           // post_force of a step (not a setup): the interval's time
   virtual void fields_end_of_step();            // the interval's end: averages (the /kk fix fetches first)
+  // the tool's fingerprint in restart files: element values, the vertices' bounding box (lo, hi)
+  enum { NFINGER = 7 };
+  void tool_fingerprint(double *fp) const;
+  void check_fingerprint(const double *saved) const;
   void fields_write_restart(std::vector<double> &list);
   void fields_restart(const double *buf);
 };

@@ -710,16 +710,21 @@ std::vector<double> stl_section_z0(const std::string &file, const std::vector<do
   return seg;
 }
 
-double bounding_diagonal(const std::vector<double> &pts)
+void bounding_box(const std::vector<double> &pts, double *lo, double *hi)
 {
-  if (pts.size() < 3) return 0.0;
-  double lo[3], hi[3];
-  for (int k = 0; k < 3; k++) lo[k] = hi[k] = pts[k];
+  for (int k = 0; k < 3; k++) lo[k] = hi[k] = pts.size() < 3 ? 0.0 : pts[k];
   for (size_t i = 0; i + 3 <= pts.size(); i += 3)
     for (int k = 0; k < 3; k++) {
       lo[k] = std::min(lo[k], pts[i + k]);
       hi[k] = std::max(hi[k], pts[i + k]);
     }
+}
+
+double bounding_diagonal(const std::vector<double> &pts)
+{
+  if (pts.size() < 3) return 0.0;
+  double lo[3], hi[3];
+  bounding_box(pts, lo, hi);
   return sqrt(sq(hi[0] - lo[0]) + sq(hi[1] - lo[1]) + sq(hi[2] - lo[2]));
 }
 

@@ -293,6 +293,39 @@ TEST(Cutting, WorkpieceSizedToTheCut)
   }
 }
 
+// a continued run must rebuild the tool of the run that wrote the restart file: fix
+// contact/tri-penalty keeps the tool's fingerprint there (its elements and their bounding box) and
+// stops a continued run whose input builds another tool.  With -var length 0 the workpiece, and
+// so the insert's start, follow the cut: continuing with a longer cut would move the tool by 0.18
+// mm against the workpiece of the file.  The same input continues (the restart tests above).
+TEST(Cutting, ContinueRefusesAnotherTool)
+{
+  const std::string in = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
+  auto run = [&](const char *cut, int cont) {
+    auto l = std::make_unique<Lammps>();
+    l->cmds({"variable ny index 11", std::string("variable cut index ") + cut, "variable length index 0",
+             "variable dumpevery index 0", "variable steps index 100", "variable continue index " + std::to_string(cont)});
+    return l;
+  };
+  {
+    auto l = run("0.12e-3", 0);
+    l->lmp->input->file(in.c_str());
+  }
+  {
+    auto l = run("0.3e-3", 1);
+    std::string what;
+    try {
+      l->lmp->input->file(in.c_str());
+    } catch (LAMMPS_NS::LAMMPSException &e) {
+      what = e.what();
+    }
+    EXPECT_NE(what.find("the tool differs from the one in the restart file"), std::string::npos) << "error: '" << what << "'";
+  }
+  auto l = run("0.12e-3", 1);
+  l->lmp->input->file(in.c_str());
+  EXPECT_EQ(l->lmp->update->ntimestep, 200);
+}
+
 // -var balance rcb (recursive bisection, comm_style tiled: 1.02x the mean load on the busiest of
 // 16 ranks at 81 across, against 1.41x with shift) runs the input's path and gives the cut of
 // the default shift (one rank here; on 16 oversubscribed ranks the forces after 20 steps agreed
