@@ -1010,9 +1010,9 @@ void FixContactTriPenalty::write_restart(FILE *fp)
   // (version 2 had no fingerprint)
   std::vector<double> list = {std::nan(""), 3.0, disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2],
                               tot[3], tot[4], dt_last};
-  double fp_[NFINGER];
-  tool_fingerprint(fp_);
-  list.insert(list.end(), fp_, fp_ + NFINGER);
+  double finger[NFINGER];
+  tool_fingerprint(finger);
+  list.insert(list.end(), finger, finger + NFINGER);
   fields_write_restart(list);    // collective
   if (comm->me == 0) {
     int size = (int) (list.size() * sizeof(double));
@@ -1061,11 +1061,12 @@ void FixContactTriPenalty::check_fingerprint(const double *saved) const
   bool same = saved[0] == now[0];
   for (int k = 1; k < NFINGER; k++) same = same && fabs(saved[k] - now[k]) <= 1.0e-9 * size;
   if (!same)
-    error->all(FLERR, "Fix contact/tri-penalty {}: the tool differs from the one in the restart file (vertex "
-               "coordinates {:.6g} .. {:.6g}, {:.6g} .. {:.6g}, {:.6g} .. {:.6g} in {} values there; {:.6g} .. {:.6g}, "
-               "{:.6g} .. {:.6g}, {:.6g} .. {:.6g} in {} here): the input shapes or places it differently (in the cutting examples: another -var length, "
-               "cut or xstart than the run that wrote the file)", id, saved[1], saved[4], saved[2], saved[5],
-               saved[3], saved[6], (long) saved[0], now[1], now[4], now[2], now[5], now[3], now[6], (long) now[0]);
+    error->all(FLERR, "Fix contact/tri-penalty {}: the tool differs from the one in the restart file (its "
+               "vertices within x {:.6g} .. {:.6g}, y {:.6g} .. {:.6g}, z {:.6g} .. {:.6g}, {} coordinates there; "
+               "x {:.6g} .. {:.6g}, y {:.6g} .. {:.6g}, z {:.6g} .. {:.6g}, {} here): the input shapes or places it "
+               "differently (in the cutting examples: another -var length, cut or xstart than the run that wrote "
+               "the file)", id, saved[1], saved[4], saved[2], saved[5], saved[3], saved[6], (long) saved[0], now[1],
+               now[4], now[2], now[5], now[3], now[6], (long) now[0]);
 }
 
 double FixContactTriPenalty::memory_usage()
