@@ -554,7 +554,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   const int zero_f = k.zero_f = clear_f_active;
   k.n = atom->nlocal;
   if (staged(k.n))
-    Kokkos::parallel_for("sphcut:sph:initial_integrate_staged", sphcut::stage_policy<DeviceType>(k.n, NCOL), k);
+    Kokkos::parallel_for("sphcut:sph:initial_integrate_staged",
+                         sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1)), k);
   else
     Kokkos::parallel_for("sphcut:sph:initial_integrate", sphcut::range<DeviceType>(0, k.n), k);
   k_state.template modify<DeviceType>();

@@ -905,11 +905,6 @@ TEST(KokkosThermal, PairRowsPackedInTheFirstHalf)
   expect_same_cut_end(end[1], end[0]);
 }
 
-// fix sph/jc-thermal/kk's first-half kernel on team-staged copies of the state rows (the default on
-// a GPU from 500,000 particles; SPHCUT_STAGE_ROWS=1 here, on this host backend one thread a team):
-// the 2D cut in contact (the heat rules, the pair's rows packed in the first half) and the 3D
-// collision give the state of the kernel in place, particle by particle, and so do the step's sums
-// (dt, plastic work, the heat through a Dirichlet layer); anything but 0 or 1 is refused by name
 // where the first-half kernel works on staged rows by default (FixSPHJCThermalKokkos::stage_choice:
 // on a GPU from 500,000 local particles; measured on an H100: 2D at 18,272 and 70,570 particles
 // slower staged, 3D at 1,059,776 and 4,239,104 faster); SPHCUT_STAGE_ROWS overrides
@@ -925,6 +920,11 @@ TEST(KokkosThermal, StagedRowsChoice)
   EXPECT_FALSE(FK::stage_choice(4239104, false, 0));
 }
 
+// fix sph/jc-thermal/kk's first-half kernel on team-staged copies of the state rows (the default on
+// a GPU from 500,000 particles; SPHCUT_STAGE_ROWS=1 here, on this host backend one thread a team):
+// the 2D cut in contact (the heat rules, the pair's rows packed in the first half) and the 3D
+// collision give the state of the kernel in place, particle by particle, and so do the step's sums
+// (dt, plastic work, the heat through a Dirichlet layer); anything but 0 or 1 is refused by name
 TEST(KokkosThermal, StagedRowsMatchInPlace)
 {
   const int steps = 600;
