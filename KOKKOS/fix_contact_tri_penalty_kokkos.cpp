@@ -240,6 +240,15 @@ template <class DeviceType> struct ContactKernel {
   }
 };
 
+// the contact kernel on sphcut::reduce's wide path (its one value, the smallest spring dt, a minimum)
+template <class DeviceType> struct ContactWide {
+  ContactKernel<DeviceType> k;
+  KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int) { return true; }
+  KOKKOS_INLINE_FUNCTION void init(double *r) const { k.init(r[0]); }
+  KOKKOS_INLINE_FUNCTION void operator()(const int ii, double *r) const { k(ii, r[0]); }
+  KOKKOS_INLINE_FUNCTION void final(double *r) const { k.final(r[0]); }
+};
+
 // the cross neighbours of each local particle, in the order of its neighbour list: a contact
 // candidate's tool neighbours, a tool particle's other neighbours (none for the rest); xoff(i)
 // to xoff(i + 1) in xnb.  The scan's value holds the entries in its low 32 bits and, above,
@@ -400,6 +409,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own (the A/B)
   fold_gather = sphcut::env_switch(lmp, "SPHCUT_GATHER_FOLD", "Fix contact/tri-penalty/kk", 1);
   near_on = sphcut::env_switch(lmp, "SPHCUT_CONTACT_NEAR", "Fix contact/tri-penalty/kk", 1);
+  wide_env = sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix contact/tri-penalty/kk", -1);
   near_calls = -1;    // built again at the setup
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
@@ -541,8 +551,11 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   fixkk->k_dtlim.template sync<DeviceType>();
   // the sums go to d_sums on the device, the accumulators and the dt limit are updated there
   // (final): no host round trip; fetch() brings them to the host when an output needs them
-  Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, nwork), k,
-                          Kokkos::subview(d_sums, (int) R_DTCRIT));
+  if (sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env))
+    sphcut::wide_reduce<DeviceType, 1>("sphcut:contact:post_force", nwork, ContactWide<DeviceType>{k}, d_wide_acc);
+  else
+    Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, nwork), k,
+                            Kokkos::subview(d_sums, (int) R_DTCRIT));
   reset_accum = 0;
   fixkk->k_dtlim.template modify<DeviceType>();
   fixkk->k_state.template modify<DeviceType>();

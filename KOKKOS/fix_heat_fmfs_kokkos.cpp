@@ -82,6 +82,7 @@ template <class DeviceType, int N, class Body, class Fin> struct FinalSums {
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type r) const { body(ii, r); }
   KOKKOS_INLINE_FUNCTION void final(value_type r) const { fin(r); }
+  KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int) { return false; }    // (sphcut::reduce)
 };
 template <class DeviceType, int N, class Body, class Fin> FinalSums<DeviceType, N, Body, Fin> final_sums(Body b, Fin f)
 {
@@ -137,6 +138,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
 {
   FixHeatFMFS::init();
   sphcut::kokkos_full_list<DeviceType>(neighbor);
+  wide_env = sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix heat/fmfs/kk", -1);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   surfkk = nullptr;
@@ -414,8 +416,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
   Kokkos::parallel_for("sphcut:heat:zero_held_pp",
       sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   // (sums: the convective and radiative loss rates, the three scheme counters)
-  Kokkos::parallel_reduce("sphcut:heat:per_particle",
-      sphcut::range<DeviceType>(0, list->inum),
+  sphcut::reduce<DeviceType, 5>("sphcut:heat:per_particle", list->inum,
       final_sums<DeviceType, 5>(KOKKOS_LAMBDA(const int ii, double *r) {
         double &p_conv = r[0], &p_rad = r[1], &c_fmfs = r[2], &c_brook = r[3], &c_fall = r[4];
         const int i = d.av.ilist(ii);
@@ -433,7 +434,8 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       }, fin),
-      Kokkos::subview(d_red, std::make_pair(0, 5)));
+      sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env),
+      Kokkos::subview(d_red, std::make_pair(0, 5)), d_wide_acc);
   fixkk->k_state.template modify<DeviceType>();
 }
 
@@ -486,9 +488,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
           });
   }
   // (sums: the three scheme counters)
-  Kokkos::parallel_reduce("sphcut:heat:weights",
-      sphcut::range<DeviceType>(0, list->inum),
-      final_sums<DeviceType, 3>(KOKKOS_LAMBDA(const int ii, double *r) {
+  const auto pass = final_sums<DeviceType, 3>(KOKKOS_LAMBDA(const int ii, double *r) {
         double &c_fmfs = r[0], &c_brook = r[1], &c_fall = r[2];
         const int i = d.av.ilist(ii);
         if (clear) {
@@ -514,8 +514,14 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
           fw(i, FW0) = 1.0;
         }
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
-      }, fin),
-      Kokkos::subview(d_red, std::make_pair(0, 3)));
+      }, fin);
+  // compiled with launch bounds of 128 threads a block, 3 blocks a multiprocessor: 168 registers in
+  // 3D, no spill (174 without; on one H100 at 1.06 M particles 2859 against 3998 us a call,
+  // bench/gpu/RESULTS.md "The reductions over the particles"; 4 blocks: 128 registers, 784 bytes
+  // of spill)
+  sphcut::reduce<DeviceType, 3, 3>("sphcut:heat:weights", list->inum, pass,
+                                   sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env),
+                                   Kokkos::subview(d_red, std::make_pair(0, 3)), d_wide_acc);
   k_fwts.template modify<DeviceType>();
   if (fuse) surfkk->k_out.template modify<DeviceType>();
 }
@@ -541,8 +547,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
     Kokkos::parallel_for("sphcut:heat:zero_held",
         sphcut::range<DeviceType>(0, atom->nlocal), KOKKOS_LAMBDA(const int i) { av.st(i, F::HELD) = 0.0; });
   // (sums: the convective and radiative loss rates)
-  Kokkos::parallel_reduce("sphcut:heat:exchange",
-      sphcut::range<DeviceType>(0, list->inum),
+  sphcut::reduce<DeviceType, 2>("sphcut:heat:exchange", list->inum,
       final_sums<DeviceType, 2>(KOKKOS_LAMBDA(const int ii, double *r) {
         double &p_conv = r[0], &p_rad = r[1];
         const int i = d.av.ilist(ii);
@@ -559,7 +564,8 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       }, fin),
-      Kokkos::subview(d_red, std::make_pair(0, 2)));
+      sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env),
+      Kokkos::subview(d_red, std::make_pair(0, 2)), d_wide_acc);
   fixkk->k_state.template modify<DeviceType>();
 }
 

@@ -131,6 +131,111 @@ template <class DeviceType> constexpr bool on_host_backend()
   return std::is_same<typename DeviceType::execution_space, LMPHostType::execution_space>::value;
 }
 
+/* A reduction over many particles, one thread each.  Kokkos 3.4 launches a range reduction on
+   CUDA in at most block_size blocks of block_size threads (Kokkos_Cuda_Parallel.hpp: "grid.x <=
+   block.y", 256 x 256), each thread looping over n / 65,536 of the indices, and its tree's shared
+   memory under the L1 preference leaves one block of 256 a multiprocessor (Nsight Compute: the
+   corrector at 12.5 % occupancy at 1.06 M particles, bench/gpu/RESULTS.md).  wide_reduce runs
+   the same functor as a parallel_for of one thread per index instead: each warp joins its lanes'
+   values by shuffles and its first lane joins them into the accumulator acc on the device by
+   atomics (sums: add; minima: the integer minimum of their bits, which orders non-negative
+   doubles as their values), then a one-thread kernel runs the functor's final on acc and resets
+   it.  The functor: init(double *), operator()(i, double *), final(double *) and a static
+   is_min(k) for its N values; its minima must be non-negative (time-step limits).  The minima are
+   exact; the sums take the atomics' order (their round-off varies from run to run).  On a host
+   backend each index joins its values by atomics (the tests' path).                           */
+template <class DeviceType, int N, class Functor> struct WideReduce {
+  typedef DeviceType device_type;
+  Functor f;
+  Kokkos::View<double *, typename DeviceType::memory_space> acc;
+  int end;
+  KOKKOS_INLINE_FUNCTION void join_atomic(int k, double v) const
+  {
+    if (!Functor::is_min(k)) {
+      Kokkos::atomic_add(&acc(k), v);
+      return;
+    }
+#ifdef __CUDA_ARCH__
+    if (v >= 0.0) {
+      atomicMin(reinterpret_cast<unsigned long long *>(&acc(k)), (unsigned long long) __double_as_longlong(v));
+      return;
+    }
+#endif
+    Kokkos::atomic_fetch_min(&acc(k), v);
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i) const
+  {
+    double r[N];
+    f.init(r);
+    f(i, r);
+#ifdef __CUDA_ARCH__
+    // Kokkos' range launch: blocks (1, size, 1), index i = threadIdx.y + size * blockIdx.x (+ a
+    // multiple of size * gridDim.x): with size a multiple of 32 a warp holds 32 consecutive
+    // indices, its lanes below nv valid
+    if (blockDim.x == 1 && (blockDim.y & 31) == 0) {
+      const int lane = threadIdx.y & 31, nv = end - (i - lane);
+      const unsigned m = nv >= 32 ? 0xffffffffu : (1u << nv) - 1u;
+      for (int off = 16; off > 0; off >>= 1)
+        for (int k = 0; k < N; k++) {
+          const double o = __shfl_down_sync(m, r[k], off);
+          if (lane + off < nv) r[k] = Functor::is_min(k) ? (o < r[k] ? o : r[k]) : r[k] + o;
+        }
+      if (lane) return;
+    }
+#endif
+    for (int k = 0; k < N; k++) join_atomic(k, r[k]);
+  }
+};
+
+// whether a reduction takes wide_reduce: on a GPU at every size (one H100, against Kokkos' own: the
+// 3D step at 4.24 M particles -9 %, the 2D cut at 70,570 particles -4 %, at 18,272 -3 %, the
+// corrector and the contact kernel below 65,536 particles included; bench/gpu/RESULTS.md "The
+// reductions over the particles"), never on a host backend; SPHCUT_WIDE_REDUCE (0 or 1,
+// env_switch's -1 when unset) overrides, 1 on host backends too
+inline bool wide_choice(bool host, int env)
+{
+  return env >= 0 ? env == 1 : !host;
+}
+
+// wide_reduce of functor f (N values, see WideReduce) over 0 .. n - 1 through the accumulator acc
+// (allocated and set to the functor's init here when it has fewer than N values)
+template <class DeviceType, int N, int MINB = 0, class Functor>
+void wide_reduce(const std::string &name, int n, const Functor &f,
+                 Kokkos::View<double *, typename DeviceType::memory_space> &acc)
+{
+  if ((int) acc.extent(0) < N) {
+    acc = Kokkos::View<double *, typename DeviceType::memory_space>(name + ":acc", N);
+    auto a = acc;
+    Kokkos::parallel_for(name + ":acc_init", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
+      double r[N];
+      f.init(r);
+      for (int k = 0; k < N; k++) a(k) = r[k];
+    });
+  }
+  Kokkos::parallel_for(name, range<DeviceType, MINB>(0, n), WideReduce<DeviceType, N, Functor>{f, acc, n});
+  auto a = acc;
+  Kokkos::parallel_for(name + ":final", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
+    double r[N];
+    for (int k = 0; k < N; k++) r[k] = a(k);
+    f.final(r);
+    f.init(r);
+    for (int k = 0; k < N; k++) a(k) = r[k];
+  });
+}
+
+// the reduction of functor f (a Kokkos reduction functor of N values, with is_min) over 0 .. n - 1:
+// Kokkos' own into result (a view of N on the device, as parallel_reduce writes it), or with
+// wide, wide_reduce through acc
+template <class DeviceType, int N, int MINB = 0, class Functor, class Result>
+void reduce(const std::string &name, int n, const Functor &f, bool wide, const Result &result,
+            Kokkos::View<double *, typename DeviceType::memory_space> &acc)
+{
+  if (wide)
+    wide_reduce<DeviceType, N, MINB>(name, n, f, acc);
+  else
+    Kokkos::parallel_reduce(name, range<DeviceType, MINB>(0, n), f, result);
+}
+
 // the staged kernel of fix sph/jc-thermal/kk (initial_integrate): a team takes
 // STAGE_ROWS consecutive particles, copies their state rows (contiguous in the LayoutRight view)
 // into its scratch with loads of consecutive doubles across its threads, each thread integrates its

@@ -973,6 +973,81 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   unsetenv("SPHCUT_STAGE_ROWS");
 }
 
+// the reductions over the particles (fix sph/jc-thermal/kk's corrector, fix heat/fmfs/kk's two
+// passes, fix contact/tri-penalty/kk's kernel) on the wide path of sphcut::reduce (one thread per
+// particle, the warps' values joined by atomics, a final kernel: a GPU's default) against Kokkos'
+// range reductions: the same cut and state, the same step (a minimum: any order), the plastic
+// work and the heat fix's sums (convection and radiation, the scheme counters) to round-off; each
+// reduction's final kernel launched with it, and none on Kokkos' path.  The corrector's thermal dt limit (a second
+// minimum) through the heated block's adaptive step
+TEST(KokkosThermal, WideReductionsMatchKokkos)
+{
+  const int steps = 600;
+  CutEnd end[2];
+  Snapshot snap[2];
+  double sums[2][2];    // dt, the plastic work
+  double heat[2][6];    // fix heat/fmfs's vector
+  for (const int wide : {1, 0}) {
+    const auto l = counted_cut("0.6", steps, "SPHCUT_WIDE_REDUCE", wide ? "1" : "0");
+    EXPECT_EQ(launches["sphcut:sph:final_integrate"], steps);
+    EXPECT_EQ(launches["sphcut:sph:final_integrate:final"], wide ? steps : 0);
+    EXPECT_GT(launches["sphcut:heat:exchange"], steps / 20);    // (every 10 steps)
+    EXPECT_EQ(launches["sphcut:heat:exchange:final"], wide ? launches["sphcut:heat:exchange"] : 0);
+    EXPECT_EQ(launches["sphcut:heat:weights:final"], wide ? launches["sphcut:heat:weights"] : 0);
+    EXPECT_EQ(launches["sphcut:contact:post_force:final"], wide ? launches["sphcut:contact:post_force"] : 0);
+    EXPECT_GE(launches["sphcut:contact:post_force"], steps);
+    end[wide] = cut_end(*l);
+    snap[wide] = take(*l);
+    sums[wide][0] = l->equal("f_sph[1]");
+    sums[wide][1] = l->equal("f_sph[4]");
+    for (int k = 0; k < 6; k++) heat[wide][k] = l->equal("f_heat[" + std::to_string(k + 1) + "]");
+    std::printf("[ wide     ] SPHCUT_WIDE_REDUCE=%d: Fc %.15g, Ft %.15g; dt %.15g, plastic work %.15g; heat fix "
+                "%.15g %.15g %.15g %.15g %.15g %.15g\n", wide, end[wide].fc, end[wide].ft, sums[wide][0],
+                sums[wide][1], heat[wide][0], heat[wide][1], heat[wide][2], heat[wide][3], heat[wide][4],
+                heat[wide][5]);
+  }
+  EXPECT_GT(end[1].fc, 20.0);    // in contact
+  expect_same_cut_end(end[1], end[0]);
+  expect_same(snap[0], snap[1], "wide reductions");
+  EXPECT_EQ(sums[1][0], sums[0][0]);
+  EXPECT_GT(sums[0][1], 0.0);
+  EXPECT_NEAR(sums[1][1], sums[0][1], 1e-12 * sums[0][1]);
+  for (int k = 0; k < 6; k++) EXPECT_NEAR(heat[1][k], heat[0][k], 1e-12 * fabs(heat[0][k])) << "f_heat[" << k + 1 << "]";
+  EXPECT_GT(fabs(heat[0][1]), 0.0);    // the convective heat: summed
+  // the heated block's adaptive step (its thermal limit reduced in the corrector)
+  double dt[2], qdir[2];
+  for (const int wide : {1, 0}) {
+    setenv("SPHCUT_WIDE_REDUCE", wide ? "1" : "0", 1);
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds(heated_block(50));
+    unsetenv("SPHCUT_WIDE_REDUCE");
+    dt[wide] = l.equal("dt");
+    qdir[wide] = l.equal("f_heat[3]");
+  }
+  std::printf("[ wide     ] heated block: dt %.15g / %.15g s, Dirichlet heat %.15g / %.15g J\n", dt[1], dt[0],
+              qdir[1], qdir[0]);
+  EXPECT_EQ(dt[1], dt[0]);
+  EXPECT_GT(qdir[0], 0.0);
+  EXPECT_NEAR(qdir[1], qdir[0], 1e-12 * qdir[0]);
+  setenv("SPHCUT_WIDE_REDUCE", "yes", 1);
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  auto block = heated_block(0);
+  block.pop_back();    // (its run)
+  l.cmds(block);
+  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_WIDE_REDUCE=yes is not 0 or 1"));
+  unsetenv("SPHCUT_WIDE_REDUCE");
+}
+
+// sphcut::wide_choice: the wide path on a GPU, Kokkos' reduction on a host backend, the
+// environment's choice on either
+TEST(KokkosThermal, WideReductionChoice)
+{
+  EXPECT_TRUE(sphcut::wide_choice(false, -1));
+  EXPECT_FALSE(sphcut::wide_choice(true, -1));
+  EXPECT_TRUE(sphcut::wide_choice(true, 1));
+  EXPECT_FALSE(sphcut::wide_choice(false, 0));
+}
+
 // LAMMPS' launch of its force clear (the Zero functor) outside the setups
 int zero_launches()
 {
