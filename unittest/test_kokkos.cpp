@@ -787,6 +787,20 @@ std::vector<std::string> heated_block(int nsteps)
           "thermo 0", "run " + std::to_string(nsteps)};
 }
 
+// the heated block after 50 steps with the environment switch env=value: its step and the heat
+// through its Dirichlet layer
+struct BlockEnd {
+  double dt, qdir;
+};
+BlockEnd heated_block_under(const char *env, const char *value)
+{
+  setenv(env, value, 1);
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  l.cmds(heated_block(50));
+  unsetenv(env);
+  return {l.equal("dt"), l.equal("f_heat[3]")};
+}
+
 // the number of particles fix contact/tri-penalty/kk id evaluated last (its extract "near")
 const int *contact_near(Lammps &l, const char *id)
 {
@@ -952,13 +966,7 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   EXPECT_NEAR(sums[1][1], sums[0][1], 1e-12 * sums[0][1]);
   // the Dirichlet heat (a block heated from its bottom layer; the cut's clamp has not warmed yet)
   double qdir[2];
-  for (const int staged : {1, 0}) {
-    setenv("SPHCUT_STAGE_ROWS", staged ? "1" : "0", 1);
-    Lammps l(MPI_COMM_WORLD, KK_FULL);
-    l.cmds(heated_block(50));
-    unsetenv("SPHCUT_STAGE_ROWS");
-    qdir[staged] = l.equal("f_heat[3]");
-  }
+  for (const int staged : {1, 0}) qdir[staged] = heated_block_under("SPHCUT_STAGE_ROWS", staged ? "1" : "0").qdir;
   std::printf("[ staged   ] Dirichlet heat of the heated block: %.15g / %.15g J\n", qdir[1], qdir[0]);
   EXPECT_GT(qdir[0], 0.0);
   EXPECT_NEAR(qdir[1], qdir[0], 1e-12 * qdir[0]);
@@ -1017,12 +1025,9 @@ TEST(KokkosThermal, WideReductionsMatchKokkos)
   // the heated block's adaptive step (its thermal limit reduced in the corrector)
   double dt[2], qdir[2];
   for (const int wide : {1, 0}) {
-    setenv("SPHCUT_WIDE_REDUCE", wide ? "1" : "0", 1);
-    Lammps l(MPI_COMM_WORLD, KK_FULL);
-    l.cmds(heated_block(50));
-    unsetenv("SPHCUT_WIDE_REDUCE");
-    dt[wide] = l.equal("dt");
-    qdir[wide] = l.equal("f_heat[3]");
+    const BlockEnd b = heated_block_under("SPHCUT_WIDE_REDUCE", wide ? "1" : "0");
+    dt[wide] = b.dt;
+    qdir[wide] = b.qdir;
   }
   std::printf("[ wide     ] heated block: dt %.15g / %.15g s, Dirichlet heat %.15g / %.15g J\n", dt[1], dt[0],
               qdir[1], qdir[0]);
