@@ -240,12 +240,19 @@ template <class DeviceType> struct ContactKernel {
   }
 };
 
-// the contact kernel on sphcut::reduce's wide path (its one value, the smallest spring dt, a minimum)
+// the contact kernel on sphcut::reduce's wide path (its one value, the smallest spring dt, a
+// minimum).  Its final, run by the last warp to join, reads the sums every particle added by
+// atomics (sums(S_RUN + c), the record counter): each particle's thread fences after its own, so
+// that they are visible before its warp counts itself done
 template <class DeviceType> struct ContactWide {
   ContactKernel<DeviceType> k;
   KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int) { return true; }
   KOKKOS_INLINE_FUNCTION void init(double *r) const { k.init(r[0]); }
-  KOKKOS_INLINE_FUNCTION void operator()(const int ii, double *r) const { k(ii, r[0]); }
+  KOKKOS_INLINE_FUNCTION void operator()(const int ii, double *r) const
+  {
+    k(ii, r[0]);
+    Kokkos::memory_fence();
+  }
   KOKKOS_INLINE_FUNCTION void final(double *r) const { k.final(r[0]); }
 };
 

@@ -91,6 +91,7 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   enum LossSlot { L_CONV = 0, L_RAD, L_QCONV, L_QRAD, L_NFMFS, L_NBROOK, L_NFALL, NLOSS };
   Kokkos::View<double *, typename DeviceType::memory_space> d_loss, d_red;    // (d_red: the reductions' result)
   Kokkos::View<double *, typename DeviceType::memory_space> d_wide_acc;    // their accumulator on the wide path
+                                                                          // (shared: their inits are all zero)
   int wide_env = -1;    // SPHCUT_WIDE_REDUCE (sphcut::wide_choice), -1 unset
   double loss_weight = 0.0;     // the time the current rates have acted for since the device's last sum
   double replaced_weight = 0.0;    // the weight the rates an evaluation replaces still take (its final)

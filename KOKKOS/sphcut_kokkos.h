@@ -139,15 +139,18 @@ template <class DeviceType> constexpr bool on_host_backend()
    the same functor as a parallel_for of one thread per index instead: each warp joins its lanes'
    values by shuffles and its first lane joins them into the accumulator acc on the device by
    atomics (sums: add; minima: the integer minimum of their bits, which orders non-negative
-   doubles as their values), then a one-thread kernel runs the functor's final on acc and resets
-   it.  The functor: init(double *), operator()(i, double *), final(double *) and a static
-   is_min(k) for its N values; its minima must be non-negative (time-step limits).  The minima are
+   doubles as their values), then counts itself done in acc(N); the last to arrive (after a
+   fence) runs the functor's final on acc and resets it, so no kernel of its own is launched for
+   final.  The functor: init(double *), operator()(i, double *), final(double *) and a static
+   is_min(k) for its N values; its minima must be non-negative (time-step limits); a final that
+   reads what other threads wrote besides their values needs their operator() to fence after it
+   (only the first lane of a warp fences before the count).  The minima are
    exact; the sums take the atomics' order (their round-off varies from run to run).  On a host
    backend each index joins its values by atomics (the tests' path).                           */
 template <class DeviceType, int N, class Functor> struct WideReduce {
   typedef DeviceType device_type;
   Functor f;
-  Kokkos::View<double *, typename DeviceType::memory_space> acc;
+  Kokkos::View<double *, typename DeviceType::memory_space> acc;    // N values, then the count
   int end;
   KOKKOS_INLINE_FUNCTION void join_atomic(int k, double v) const
   {
@@ -162,6 +165,22 @@ template <class DeviceType, int N, class Functor> struct WideReduce {
     }
 #endif
     Kokkos::atomic_fetch_min(&acc(k), v);
+  }
+  // the values r of one of units joins; the last runs final and resets acc (the "threadfence
+  // reduction" of CUDA's samples: every join's atomics are done before its count)
+  KOKKOS_INLINE_FUNCTION void join(const double *r, int units) const
+  {
+    for (int k = 0; k < N; k++) join_atomic(k, r[k]);
+    Kokkos::memory_fence();
+    if (Kokkos::atomic_fetch_add(&acc(N), 1.0) + 1.0 != (double) units) return;
+    Kokkos::memory_fence();
+    const volatile double *a = &acc(0);    // (the atomics' values, not a cached copy)
+    double v[N];
+    for (int k = 0; k < N; k++) v[k] = a[k];
+    f.final(v);
+    f.init(v);
+    for (int k = 0; k < N; k++) acc(k) = v[k];
+    acc(N) = 0.0;
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const
   {
@@ -180,10 +199,11 @@ template <class DeviceType, int N, class Functor> struct WideReduce {
           const double o = __shfl_down_sync(m, r[k], off);
           if (lane + off < nv) r[k] = Functor::is_min(k) ? (o < r[k] ? o : r[k]) : r[k] + o;
         }
-      if (lane) return;
+      if (lane == 0) join(r, (end + 31) / 32);
+      return;
     }
 #endif
-    for (int k = 0; k < N; k++) join_atomic(k, r[k]);
+    join(r, end);
   }
 };
 
@@ -198,13 +218,14 @@ inline bool wide_choice(bool host, int env)
 }
 
 // wide_reduce of functor f (N values, see WideReduce) over 0 .. n - 1 through the accumulator acc
-// (allocated and set to the functor's init here when it has fewer than N values)
+// (allocated and set to the functor's init here when it has fewer than N + 1 values; shared by
+// functors of one init); with no index a kernel of one thread runs final
 template <class DeviceType, int N, int MINB = 0, class Functor>
 void wide_reduce(const std::string &name, int n, const Functor &f,
                  Kokkos::View<double *, typename DeviceType::memory_space> &acc)
 {
-  if ((int) acc.extent(0) < N) {
-    acc = Kokkos::View<double *, typename DeviceType::memory_space>(name + ":acc", N);
+  if ((int) acc.extent(0) < N + 1) {
+    acc = Kokkos::View<double *, typename DeviceType::memory_space>(name + ":acc", N + 1);    // (zeroed)
     auto a = acc;
     Kokkos::parallel_for(name + ":acc_init", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
       double r[N];
@@ -212,7 +233,10 @@ void wide_reduce(const std::string &name, int n, const Functor &f,
       for (int k = 0; k < N; k++) a(k) = r[k];
     });
   }
-  Kokkos::parallel_for(name, range<DeviceType, MINB>(0, n), WideReduce<DeviceType, N, Functor>{f, acc, n});
+  if (n > 0) {
+    Kokkos::parallel_for(name, range<DeviceType, MINB>(0, n), WideReduce<DeviceType, N, Functor>{f, acc, n});
+    return;
+  }
   auto a = acc;
   Kokkos::parallel_for(name + ":final", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
     double r[N];

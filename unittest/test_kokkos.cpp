@@ -983,10 +983,10 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
 
 // the reductions over the particles (fix sph/jc-thermal/kk's corrector, fix heat/fmfs/kk's two
 // passes, fix contact/tri-penalty/kk's kernel) on the wide path of sphcut::reduce (one thread per
-// particle, the warps' values joined by atomics, a final kernel: a GPU's default) against Kokkos'
-// range reductions: the same cut and state, the same step (a minimum: any order), the plastic
-// work and the heat fix's sums (convection and radiation, the scheme counters) to round-off; each
-// reduction's final kernel launched with it, and none on Kokkos' path.  The corrector's thermal dt limit (a second
+// particle, the warps' values joined by atomics, the last to join runs the final: a GPU's default)
+// against Kokkos' range reductions: the same cut and state, the same step (a minimum: any order),
+// the plastic work and the heat fix's sums (convection and radiation, the scheme counters) to
+// round-off; one kernel a reduction.  The corrector's thermal dt limit (a second
 // minimum) through the heated block's adaptive step
 TEST(KokkosThermal, WideReductionsMatchKokkos)
 {
@@ -997,13 +997,15 @@ TEST(KokkosThermal, WideReductionsMatchKokkos)
   double heat[2][6];    // fix heat/fmfs's vector
   for (const int wide : {1, 0}) {
     const auto l = counted_cut("0.6", steps, "SPHCUT_WIDE_REDUCE", wide ? "1" : "0");
+    // one kernel a reduction (the last warp runs its final); the accumulator set up once (the
+    // corrector's in the first step, the others' in the setup, which is not counted)
     EXPECT_EQ(launches["sphcut:sph:final_integrate"], steps);
-    EXPECT_EQ(launches["sphcut:sph:final_integrate:final"], wide ? steps : 0);
+    EXPECT_EQ(launches["sphcut:sph:final_integrate:acc_init"], wide);
     EXPECT_GT(launches["sphcut:heat:exchange"], steps / 20);    // (every 10 steps)
-    EXPECT_EQ(launches["sphcut:heat:exchange:final"], wide ? launches["sphcut:heat:exchange"] : 0);
-    EXPECT_EQ(launches["sphcut:heat:weights:final"], wide ? launches["sphcut:heat:weights"] : 0);
-    EXPECT_EQ(launches["sphcut:contact:post_force:final"], wide ? launches["sphcut:contact:post_force"] : 0);
     EXPECT_GE(launches["sphcut:contact:post_force"], steps);
+    for (const char *k : {"sphcut:sph:final_integrate", "sphcut:heat:weights", "sphcut:heat:exchange",
+                          "sphcut:contact:post_force"})
+      EXPECT_EQ(launches[std::string(k) + ":final"], 0) << k;
     end[wide] = cut_end(*l);
     snap[wide] = take(*l);
     sums[wide][0] = l->equal("f_sph[1]");
@@ -1041,6 +1043,52 @@ TEST(KokkosThermal, WideReductionsMatchKokkos)
   l.cmds(block);
   EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_WIDE_REDUCE=yes is not 0 or 1"));
   unsetenv("SPHCUT_WIDE_REDUCE");
+}
+
+// a reduction of two values for sphcut::wide_reduce: the sum of i + 1 and the minimum of 1000 - i;
+// final copies them into out and counts itself in out(2)
+struct TwoValues {
+  Kokkos::View<double *, LMPDeviceType> out;
+  KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return k == 1; }
+  KOKKOS_INLINE_FUNCTION void init(double *r) const
+  {
+    r[0] = 0.0;
+    r[1] = 1.0e300;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, double *r) const
+  {
+    r[0] += i + 1.0;
+    if (1000.0 - i < r[1]) r[1] = 1000.0 - i;
+  }
+  KOKKOS_INLINE_FUNCTION void final(double *r) const
+  {
+    out(0) = r[0];
+    out(1) = r[1];
+    out(2) += 1.0;
+  }
+};
+
+// sphcut::wide_reduce on the host backend (each index's values by atomics, the last to join runs
+// final): the sum and the minimum over 0, 1, 37 and 1000 indices through one accumulator, final
+// once a call (with no index from a kernel of its own), the accumulator reset between calls
+TEST(KokkosThermal, WideReduceSumsAndMinima)
+{
+  Lammps l(MPI_COMM_WORLD, KK_FULL);    // (Kokkos initialised)
+  Kokkos::View<double *, LMPDeviceType> out("out", 3);
+  Kokkos::View<double *, LMPDeviceType::memory_space> acc;
+  const TwoValues f{out};
+  double finals = 0.0;
+  for (const int n : {0, 1, 37, 1000, 37}) {
+    sphcut::wide_reduce<LMPDeviceType, 2>("test:wide", n, f, acc);
+    Kokkos::fence();
+    finals += 1.0;
+    EXPECT_EQ(out(0), 0.5 * n * (n + 1.0)) << n;
+    EXPECT_EQ(out(1), n > 0 ? 1001.0 - n : 1.0e300) << n;
+    EXPECT_EQ(out(2), finals) << n;
+    EXPECT_EQ(acc(0), 0.0);        // reset to init
+    EXPECT_EQ(acc(1), 1.0e300);
+    EXPECT_EQ(acc(2), 0.0);        // the count
+  }
 }
 
 // sphcut::wide_choice: the wide path on a GPU, Kokkos' reduction on a host backend, the
