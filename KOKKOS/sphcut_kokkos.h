@@ -144,9 +144,9 @@ template <class DeviceType> constexpr bool on_host_backend()
    final.  The functor: init(double *), operator()(i, double *), final(double *) and a static
    is_min(k) for its N values; its minima must be non-negative (time-step limits); a final that
    reads what other threads wrote besides their values needs their operator() to fence after it
-   (only the first lane of a warp fences before the count).  The minima are
-   exact; the sums take the atomics' order (their round-off varies from run to run).  On a host
-   backend each index joins its values by atomics (the tests' path).                           */
+   (only the first lane of a warp fences before the count).  The minima are exact; the sums take
+   the atomics' order (their round-off varies from run to run).  On a host backend each index
+   joins its values by atomics (the tests' path).                                              */
 template <class DeviceType, int N, class Functor> struct WideReduce {
   typedef DeviceType device_type;
   Functor f;
