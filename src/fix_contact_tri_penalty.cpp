@@ -1057,7 +1057,7 @@ void FixContactTriPenalty::check_fingerprint(const double *saved) const
 {
   double now[NFINGER];
   tool_fingerprint(now);
-  const double size = sphcut::bounding_diagonal(elem);
+  const double size = sphcut::box_diagonal(now + 1, now + 4);
   bool same = saved[0] == now[0];
   for (int k = 1; k < NFINGER; k++) same = same && fabs(saved[k] - now[k]) <= 1.0e-9 * size;
   if (!same)

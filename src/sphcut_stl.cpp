@@ -720,12 +720,16 @@ void bounding_box(const std::vector<double> &pts, double *lo, double *hi)
     }
 }
 
+double box_diagonal(const double *lo, const double *hi)
+{
+  return sqrt(sq(hi[0] - lo[0]) + sq(hi[1] - lo[1]) + sq(hi[2] - lo[2]));
+}
+
 double bounding_diagonal(const std::vector<double> &pts)
 {
-  if (pts.size() < 3) return 0.0;
   double lo[3], hi[3];
-  bounding_box(pts, lo, hi);
-  return sqrt(sq(hi[0] - lo[0]) + sq(hi[1] - lo[1]) + sq(hi[2] - lo[2]));
+  bounding_box(pts, lo, hi);    // (all 0 if empty)
+  return box_diagonal(lo, hi);
 }
 
 std::vector<double> pseudo_normals(const std::vector<double> &elem, int nvert)

@@ -97,9 +97,10 @@ void require_closed_mesh(const std::string &file, const std::vector<double> &tri
 // Throws ("STL file '...': no facet crosses the plane z = 0 ...") when the section is empty.
 std::vector<double> stl_section_z0(const std::string &file, const std::vector<double> &tri);
 
-// the bounding box of a vertex array (3 doubles per vertex: elements of any kind; all 0 if empty)
-// and its diagonal
+// the bounding box of a vertex array (3 doubles per vertex: elements of any kind; all 0 if empty),
+// the diagonal of a box and of the array's bounding box
 void bounding_box(const std::vector<double> &pts, double *lo, double *hi);
+double box_diagonal(const double *lo, const double *hi);
 double bounding_diagonal(const std::vector<double> &pts);
 
 // ASCII STL, coordinates with 17 significant digits (exact round trip)
