@@ -416,7 +416,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own (the A/B)
   fold_gather = sphcut::env_switch(lmp, "SPHCUT_GATHER_FOLD", "Fix contact/tri-penalty/kk", 1);
   near_on = sphcut::env_switch(lmp, "SPHCUT_CONTACT_NEAR", "Fix contact/tri-penalty/kk", 1);
-  wide_env = sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix contact/tri-penalty/kk", -1);
+  wide = sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(),
+                             sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix contact/tri-penalty/kk", -1));
   near_calls = -1;    // built again at the setup
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);
@@ -558,7 +559,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   fixkk->k_dtlim.template sync<DeviceType>();
   // the sums go to d_sums on the device, the accumulators and the dt limit are updated there
   // (final): no host round trip; fetch() brings them to the host when an output needs them
-  if (sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env))
+  if (wide)
     sphcut::wide_reduce<DeviceType, 1>("sphcut:contact:post_force", nwork, ContactWide<DeviceType>{k}, d_wide_acc);
   else
     Kokkos::parallel_reduce("sphcut:contact:post_force", sphcut::range<DeviceType>(0, nwork), k,

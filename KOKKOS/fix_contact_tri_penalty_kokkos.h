@@ -95,7 +95,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   // element: the kernel skips them.  SPHCUT_CONTACT_NEAR=0 (environment): every local particle,
   // for the A/B
   int near_on = 1;
-  int wide_env = -1;    // SPHCUT_WIDE_REDUCE (sphcut::wide_choice), -1 unset
+  bool wide = false;    // its kernel on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
   Kokkos::View<double *, typename DeviceType::memory_space> d_wide_acc;    // the wide path's accumulator
   Kokkos::View<int *, mem> d_near;
   int nnear = -1;                                // particles in d_near (-1: build it)

@@ -138,7 +138,8 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
 {
   FixHeatFMFS::init();
   sphcut::kokkos_full_list<DeviceType>(neighbor);
-  wide_env = sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix heat/fmfs/kk", -1);
+  wide = sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(),
+                             sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix heat/fmfs/kk", -1));
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   surfkk = nullptr;
@@ -434,7 +435,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       }, fin),
-      sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env),
+      wide,
       Kokkos::subview(d_red, std::make_pair(0, 5)), d_wide_acc);
   fixkk->k_state.template modify<DeviceType>();
 }
@@ -520,7 +521,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
   // bench/gpu/RESULTS.md "The reductions over the particles"; 4 blocks: 128 registers, 784 bytes
   // of spill)
   sphcut::reduce<DeviceType, 3, 3>("sphcut:heat:weights", list->inum, pass,
-                                   sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env),
+                                   wide,
                                    Kokkos::subview(d_red, std::make_pair(0, 3)), d_wide_acc);
   k_fwts.template modify<DeviceType>();
   if (fuse) surfkk->k_out.template modify<DeviceType>();
@@ -564,7 +565,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       }, fin),
-      sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env),
+      wide,
       Kokkos::subview(d_red, std::make_pair(0, 2)), d_wide_acc);
   fixkk->k_state.template modify<DeviceType>();
 }

@@ -92,7 +92,7 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   Kokkos::View<double *, typename DeviceType::memory_space> d_loss, d_red;    // (d_red: the reductions' result)
   Kokkos::View<double *, typename DeviceType::memory_space> d_wide_acc;    // their accumulator on the wide path
                                                                           // (shared: their inits are all zero)
-  int wide_env = -1;    // SPHCUT_WIDE_REDUCE (sphcut::wide_choice), -1 unset
+  bool wide = false;    // the reductions on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
   double loss_weight = 0.0;     // the time the current rates have acted for since the device's last sum
   double replaced_weight = 0.0;    // the weight the rates an evaluation replaces still take (its final)
   bigint count_base[3] = {0, 0, 0};    // n_fmfs, n_brookshaw, n_fallback at the last push

@@ -346,7 +346,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   clear_f = sphcut::env_switch(lmp, "SPHCUT_FORCE_CLEAR", "Fix sph/jc-thermal/kk", 1) && force_clear_allowed();
   // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1 forces)
   stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1);
-  wide_env = sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix sph/jc-thermal/kk", -1);
+  wide = sphcut::wide_choice(ON_HOST, sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix sph/jc-thermal/kk", -1));
   // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
   // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
@@ -663,7 +663,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   if (gather_step == update->ntimestep) k.gather = gather;
   gather_step = -1;    // used once (a reset_timestep cannot bring it back)
   if (d_second.extent(0) != 4) d_second = Kokkos::View<double *, typename DeviceType::memory_space>("sph:second", 4);
-  const bool wide = sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(), wide_env);
   sphcut::reduce<DeviceType, 4>("sphcut:sph:final_integrate", atom->nlocal, k, wide, d_second, d_second_acc);
   k_dtlim.template modify<DeviceType>();
   if (k.nd) {

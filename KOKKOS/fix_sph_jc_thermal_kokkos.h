@@ -189,7 +189,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   Kokkos::View<double *, typename DeviceType::memory_space> d_second;    // final_integrate's reduction (its final
                                                                          // writes the sums where they go)
   Kokkos::View<double *, typename DeviceType::memory_space> d_second_acc;    // its accumulator on the wide path
-  int wide_env = -1;    // SPHCUT_WIDE_REDUCE (sphcut::wide_choice), -1 unset
+  bool wide = false;    // its reduction on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
   void upload_tables();
   // SPHCUT_OUTPUT_SYNC (environment, 1 by default; 0: whole rows in sync_outputs_host, and fix print
   // / fix halt left as they are in init, for the A/B)

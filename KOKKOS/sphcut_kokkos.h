@@ -166,21 +166,32 @@ template <class DeviceType, int N, class Functor> struct WideReduce {
 #endif
     Kokkos::atomic_fetch_min(&acc(k), v);
   }
-  // the values r of one of units joins; the last runs final and resets acc (the "threadfence
-  // reduction" of CUDA's samples: every join's atomics are done before its count)
+  // acc set to the functor's init, the count to 0
+  KOKKOS_INLINE_FUNCTION void reset() const
+  {
+    double v[N];
+    f.init(v);
+    for (int k = 0; k < N; k++) acc(k) = v[k];
+    acc(N) = 0.0;
+  }
+  // the functor's final on acc, then the reset
+  KOKKOS_INLINE_FUNCTION void finish() const
+  {
+    const volatile double *a = &acc(0);    // (the atomics' values, not a cached copy)
+    double v[N];
+    for (int k = 0; k < N; k++) v[k] = a[k];
+    f.final(v);
+    reset();
+  }
+  // the values r of one of units joins; the last finishes (the "threadfence reduction" of CUDA's
+  // samples: every join's atomics are done before its count)
   KOKKOS_INLINE_FUNCTION void join(const double *r, int units) const
   {
     for (int k = 0; k < N; k++) join_atomic(k, r[k]);
     Kokkos::memory_fence();
     if (Kokkos::atomic_fetch_add(&acc(N), 1.0) + 1.0 != (double) units) return;
     Kokkos::memory_fence();
-    const volatile double *a = &acc(0);    // (the atomics' values, not a cached copy)
-    double v[N];
-    for (int k = 0; k < N; k++) v[k] = a[k];
-    f.final(v);
-    f.init(v);
-    for (int k = 0; k < N; k++) acc(k) = v[k];
-    acc(N) = 0.0;
+    finish();
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const
   {
@@ -224,27 +235,15 @@ template <class DeviceType, int N, int MINB = 0, class Functor>
 void wide_reduce(const std::string &name, int n, const Functor &f,
                  Kokkos::View<double *, typename DeviceType::memory_space> &acc)
 {
-  if ((int) acc.extent(0) < N + 1) {
-    acc = Kokkos::View<double *, typename DeviceType::memory_space>(name + ":acc", N + 1);    // (zeroed)
-    auto a = acc;
-    Kokkos::parallel_for(name + ":acc_init", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
-      double r[N];
-      f.init(r);
-      for (int k = 0; k < N; k++) a(k) = r[k];
-    });
-  }
+  const bool fresh = (int) acc.extent(0) < N + 1;
+  if (fresh) acc = Kokkos::View<double *, typename DeviceType::memory_space>(name + ":acc", N + 1);
+  const WideReduce<DeviceType, N, Functor> w{f, acc, n};
+  if (fresh) Kokkos::parallel_for(name + ":acc_init", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) { w.reset(); });
   if (n > 0) {
-    Kokkos::parallel_for(name, range<DeviceType, MINB>(0, n), WideReduce<DeviceType, N, Functor>{f, acc, n});
+    Kokkos::parallel_for(name, range<DeviceType, MINB>(0, n), w);
     return;
   }
-  auto a = acc;
-  Kokkos::parallel_for(name + ":final", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) {
-    double r[N];
-    for (int k = 0; k < N; k++) r[k] = a(k);
-    f.final(r);
-    f.init(r);
-    for (int k = 0; k < N; k++) a(k) = r[k];
-  });
+  Kokkos::parallel_for(name + ":final", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) { w.finish(); });
 }
 
 // the reduction of functor f (a Kokkos reduction functor of N values, with is_min) over 0 .. n - 1:
