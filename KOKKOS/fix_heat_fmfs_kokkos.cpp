@@ -64,7 +64,7 @@ enum HeatRow { HR_X = 0, HR_TYPE = 3, HR_VOL = 4, HR_T = 5, NHR = 6 };
 static_assert(NHR % 2 == 0, "heat rows not 16-byte multiples");
 
 // a pass's reduction of N sums whose final, once after every particle, updates the losses on the
-// device (FixHeatFMFSKokkos::d_loss): body(ii, r) per list entry, fin(r) at the end
+// device (FixHeatFMFSKokkos::d_loss): body(ii, r) per list entry, fin(r, N) at the end
 template <class DeviceType, int N, class Body, class Fin> struct FinalSums {
   typedef DeviceType device_type;
   typedef double value_type[];
@@ -81,7 +81,7 @@ template <class DeviceType, int N, class Body, class Fin> struct FinalSums {
     for (int k = 0; k < N; k++) d[k] += s[k];
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type r) const { body(ii, r); }
-  KOKKOS_INLINE_FUNCTION void final(value_type r) const { fin(r); }
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const { fin(r, N); }
   KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int) { return false; }    // (sphcut::reduce)
 };
 template <class DeviceType, int N, class Body, class Fin> FinalSums<DeviceType, N, Body, Fin> final_sums(Body b, Fin f)
@@ -91,14 +91,15 @@ template <class DeviceType, int N, class Body, class Fin> FinalSums<DeviceType, 
 
 // a pass's final on the losses (FixHeatFMFSKokkos::d_loss): with rates, the rates it replaces
 // take their weight wr into the convective and radiative heat and its sums r[0], r[1] become the
-// rates; with c0 >= 0 its sums r[c0 ..] add to the three scheme counters
+// rates; with c0 >= 0 its sums r[c0 ..] add to the three scheme counters (n: the pass's sums, which
+// hold them)
 template <class DeviceType> struct LossFinal {
   typedef FixHeatFMFSKokkos<DeviceType> F;
   static_assert(F::L_NBROOK == F::L_NFMFS + 1 && F::L_NFALL == F::L_NFMFS + 2, "scheme counters not contiguous");
   Kokkos::View<double *, typename DeviceType::memory_space> loss;
   double wr;
   int rates, c0;
-  KOKKOS_INLINE_FUNCTION void operator()(const double *r) const
+  KOKKOS_INLINE_FUNCTION void operator()(const double *r, int n) const
   {
     if (rates) {
       loss(F::L_QCONV) += wr * loss(F::L_CONV);
@@ -106,7 +107,7 @@ template <class DeviceType> struct LossFinal {
       loss(F::L_CONV) = r[0];
       loss(F::L_RAD) = r[1];
     }
-    if (c0 >= 0)
+    if (c0 >= 0 && c0 + 3 <= n)
       for (int k = 0; k < 3; k++) loss(F::L_NFMFS + k) += r[c0 + k];
   }
 };
