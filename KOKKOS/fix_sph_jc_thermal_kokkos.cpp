@@ -805,14 +805,47 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
   FixSPHJCThermal::post_run();
 }
 
+/* the global vector (FixSPHJCThermal::compute_vector): elements 2, 3 (sums over the non-tool
+   particles) and 5, 6 (maxima over the group) reduced on the device, so that an output of them
+   copies nothing per atom to the host; element 4 is fetch_work's */
 template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::compute_vector(int n)
 {
-  if (n == 3) fetch_work();
-  if (n > 0) {
-    atomKK->sync(Host, V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
-    sync_outputs_host();    // (UINT, TEMP, EPS: output columns)
+  if (n == 0) return update->dt;
+  if (n == 3) {
+    fetch_work();
+    return FixSPHJCThermal::compute_vector(n);
   }
-  return FixSPHJCThermal::compute_vector(n);
+  atomKK->sync(execution_space, V_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK);
+  k_state.template sync<DeviceType>();
+  auto st = k_state.template view<DeviceType>();
+  auto v = atomKK->k_v.view<DeviceType>();
+  auto mask = atomKK->k_mask.view<DeviceType>();
+  auto type = atomKK->k_type.view<DeviceType>();
+  auto rmass = atomKK->k_rmass.view<DeviceType>();
+  auto mass = atomKK->k_mass.view<DeviceType>();
+  const int gb = groupbit, tb = toolbit, cb = clampbit, use_rmass = atom->rmass_flag;
+  double loc = 0.0, res = 0.0;
+  if (n == 1 || n == 2) {
+    const bool kinetic = n == 2;
+    Kokkos::parallel_reduce("sphcut:sph:compute_vector_sum", sphcut::range<DeviceType>(0, atom->nlocal),
+        KOKKOS_LAMBDA(const int i, double &sum) {
+          if (!(mask(i) & gb) || sphcut::role_from_mask(mask(i), tb, cb) == sphcut::StateLayout::TOOL) return;
+          const double m = use_rmass ? rmass(i) : mass(type(i));
+          sum += kinetic ? 0.5 * m * (v(i, 0) * v(i, 0) + v(i, 1) * v(i, 1) + v(i, 2) * v(i, 2)) : m * st(i, UINT);
+        },
+        loc);
+    MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+    return kinetic ? res * force->mvv2e : res;
+  }
+  const int col = n == 4 ? TEMP : EPS;
+  Kokkos::parallel_reduce("sphcut:sph:compute_vector_max", sphcut::range<DeviceType>(0, atom->nlocal),
+      KOKKOS_LAMBDA(const int i, double &mx) {
+        if ((mask(i) & gb) && st(i, col) > mx) mx = st(i, col);
+      },
+      Kokkos::Max<double>(loc));
+  loc = std::max(loc, -1.0e300);    // as the CPU fix where no particle of the group is here
+  MPI_Allreduce(&loc, &res, 1, MPI_DOUBLE, MPI_MAX, world);
+  return res;
 }
 
 /* ----------------------------------------------------------------------

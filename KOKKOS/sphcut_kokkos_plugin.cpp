@@ -10,6 +10,7 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "compute_reduce_region_kokkos.h"
 #include "compute_surface_lambda_kokkos.h"
 #include "fix_contact_tri_penalty_kokkos.h"
 #include "fix_heat_fmfs_kokkos.h"
@@ -82,4 +83,9 @@ void sphcut_register_kokkos(lammpsplugin_regfunc reg, void *lmp, void *handle)
          "sphcut " SPHCUT_VERSION ": free-surface indicator on the Kokkos device",
          (void *) &compute_creator<ComputeSurfaceLambdaKokkos<LMPDeviceType>>,
          (void *) &compute_creator<ComputeSurfaceLambdaKokkos<LMPHostType>>);
+  // a LAMMPS style whose outputs would otherwise read per-atom data on the host
+  add_kk(reg, lmp, handle, "compute", "reduce/region",
+         "sphcut " SPHCUT_VERSION ": compute reduce/region reduced on the Kokkos device (block regions)",
+         (void *) &compute_creator<ComputeReduceRegionKokkos<LMPDeviceType>>,
+         (void *) &compute_creator<ComputeReduceRegionKokkos<LMPHostType>>);
 }

@@ -10,6 +10,7 @@
 
 #include "atom.h"
 #include "atom_masks.h"
+#include "compute.h"
 #include "fix.h"
 #include "input.h"
 #include "modify.h"
@@ -1219,6 +1220,75 @@ TEST(KokkosThermal, OutputStepsCopyTheOutputColumns)
   EXPECT_GT(tmax[1], 310.0);    // in contact: heated (338 K, from 300)
   EXPECT_NEAR(tmax[1], tmax[0], 1e-12 * tmax[0]);
   EXPECT_NEAR(eint[1], eint[0], 3e-10 * fabs(eint[0]));
+}
+
+// The examples' line of forces.dat under -sf kk reads nothing per atom on the host: compute
+// reduce/region/kk reduces the rake temperature on the device, fix sph/jc-thermal/kk its global
+// vector.  The 2D cut writes the line every 10 steps while the fix's per-atom array reaches the
+// host only every 100 (its default, the thermo interval: the example gives no peratom_every), at
+// which LAMMPS' host compute would stop the run ("not computed at compatible time"); the lines
+// and the global vector as on the CPU.  Then, in the state after the run, each mode and source of
+// the device path, a moving region, a group and a region it leaves to LAMMPS' compute against
+// LAMMPS' compute reduce/region (reduce/region/kk/host: the device path on the host backend)
+TEST(KokkosThermal, OutputsReducedOnTheDevice)
+{
+  const std::vector<std::string> vars = {"ny index 11", "xstart index 0.6", "steps index 600", "dumpevery index 0",
+                                         "thermoevery index 100", "printevery index 10"};
+  std::vector<std::vector<double>> rows[2];
+  double glob[2][4];
+  for (const int kk : {0, 1}) {
+    Lammps l(MPI_COMM_WORLD, kk ? KK_FULL : std::vector<std::string>{});
+    for (auto &v : vars) l.cmd("variable " + v);
+    l.lmp->input->file(CUT2D.c_str());
+    MPI_Barrier(MPI_COMM_WORLD);    // (fix print flushes each line)
+    rows[kk] = numeric_rows("forces.dat", 7);
+    const int ic = l.lmp->modify->find_compute("Trake");
+    ASSERT_GE(ic, 0);
+    EXPECT_STREQ(l.lmp->modify->compute[ic]->style, kk ? "reduce/region/kk" : "reduce/region");
+    for (int k = 0; k < 4; k++) glob[kk][k] = l.equal("f_sph[" + std::to_string(k < 2 ? k + 2 : k + 3) + "]");
+    if (!kk) continue;
+    const int is = l.lmp->modify->find_fix("sph");
+    ASSERT_GE(is, 0);
+    EXPECT_EQ(l.lmp->modify->fix[is]->peratom_freq, 100);
+    // the same state: the device path (and its fall-back) against LAMMPS' compute on the host
+    l.cmds({"region ball sphere $(v_xtip) $(v_ytip) 0 $(8*v_dx) units box",
+            "region all block INF INF INF INF INF INF units box", "variable shift equal 4.5*v_dx",
+            "region moved block 0 $(3*v_dx) 0 $(3*v_dx) INF INF units box move v_shift v_shift NULL"});
+    const std::vector<std::string> cases = {
+        "work REGION rakeframe ave f_sph[12] x vy", "work REGION rakeframe max f_sph[12] vx f_sph[13]",
+        "work REGION rakeframe min fy f_sph[12]", "work REGION rakeframe sumsq vx fx",
+        "work REGION rakeframe avesq f_sph[12]", "tool REGION all sum f_sph[12] y",
+        "work REGION moved ave x y", "work REGION ball ave f_sph[12] x"};
+    std::string thermo = "thermo_style custom step";
+    for (size_t c = 0; c < cases.size(); c++)
+      for (const char *v : {"kk", "ref"}) {
+        std::string def = cases[c];
+        def.replace(def.find("REGION"), 6, std::string(v) == std::string("kk") ? "reduce/region/kk/host" : "reduce/region");
+        l.cmds({std::string("suffix ") + (def.find("/kk") != std::string::npos ? "on" : "off"),    // (-sf kk)
+                "compute " + std::string(v) + std::to_string(c) + " " + def});
+        thermo += " c_" + std::string(v) + std::to_string(c) + (c == 4 ? "" : "[1]");    // (4: one value, a scalar)
+      }
+    l.cmds({"suffix on", thermo, "run 0"});
+    EXPECT_STREQ(l.lmp->modify->compute[l.lmp->modify->find_compute("ref0")]->style, "reduce/region");
+    for (size_t c = 0; c < cases.size(); c++) {
+      const int nv = c == 4 ? 1 : 2;
+      for (int m = 1; m <= nv; m++) {
+        const std::string idx = std::to_string(c) + (nv > 1 ? "[" + std::to_string(m) + "]" : "");
+        const double ref = l.equal("c_ref" + idx), dev = l.equal("c_kk" + idx);
+        EXPECT_NEAR(dev, ref, 1e-12 * std::max(fabs(ref), 1e-30)) << cases[c] << " value " << m;
+        if (m == 1) EXPECT_NE(ref, 0.0) << cases[c];    // particles in the region
+      }
+    }
+  }
+  ASSERT_GT(rows[1].size(), 600u / 10);    // a line every 10 steps
+  ASSERT_EQ(rows[0].size(), rows[1].size());
+  double d = 0.0;
+  for (size_t r = 0; r < rows[0].size(); r++)
+    for (int c = 5; c < 7; c++) d = std::max(d, fabs(rows[1][r][c] - rows[0][r][c]) / rows[0][r][c]);
+  std::printf("[ outputs  ] Tmax, Trake every 10 steps /kk vs CPU %.2e; Trake %.1f K at the end\n", d, rows[0].back()[6]);
+  EXPECT_GT(rows[0].back()[6], 310.0);    // in contact: the rake frame heated (from 300 K)
+  EXPECT_LT(d, 1e-10);
+  for (int k = 0; k < 4; k++) EXPECT_NEAR(glob[1][k], glob[0][k], 1e-10 * fabs(glob[0][k])) << "f_sph element " << k;
 }
 
 // fix contact/tri-penalty/kk evaluates only the particles near the tool (near_build: the

@@ -1,0 +1,207 @@
+/* ----------------------------------------------------------------------
+   sphcut - compute reduce/region/kk (see the header).  The device path:
+   the region's displacement from its prematch() on the host, then one
+   reduction over the local particles per value (the group, the block, the
+   value), the ranks' results combined as LAMMPS' compute reduce does.
+------------------------------------------------------------------------- */
+
+#include "compute_reduce_region_kokkos.h"
+
+#include "arg_info.h"
+#include "atom_kokkos.h"
+#include "atom_masks.h"
+#include "domain.h"
+#include "fix_sph_jc_thermal_kokkos.h"
+#include "modify.h"
+#include "region.h"
+#include "region_block.h"
+#include "update.h"
+#include "utils.h"
+
+#include "sphcut_kokkos.h"
+
+using namespace LAMMPS_NS;
+
+namespace {
+
+// the particles of the group inside the block (lo, hi after the region's displacement d): the
+// sum, minimum or maximum of column col of vals (its square for sumsq, avesq) and their count
+template <class DeviceType, class Values> struct RegionReduce {
+  typedef DeviceType device_type;
+  struct value_type {
+    double v, n;
+  };
+  typename ArrayTypes<DeviceType>::t_x_array_randomread x;
+  typename ArrayTypes<DeviceType>::t_int_1d_randomread mask;
+  Values vals;
+  int col, groupbit, mode;
+  double lo[3], hi[3], d[3];
+
+  KOKKOS_INLINE_FUNCTION void init(value_type &a) const
+  {
+    a.v = mode == ComputeReduce::MINN ? 1.0e20 : (mode == ComputeReduce::MAXX ? -1.0e20 : 0.0);
+    a.n = 0.0;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type &a, const volatile value_type &b) const
+  {
+    if (mode == ComputeReduce::MINN) {
+      if (b.v < a.v) a.v = b.v;
+    } else if (mode == ComputeReduce::MAXX) {
+      if (b.v > a.v) a.v = b.v;
+    } else
+      a.v += b.v;
+    a.n += b.n;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &a) const
+  {
+    if (!(mask(i) & groupbit)) return;
+    for (int k = 0; k < 3; k++) {
+      const double xk = x(i, k) - d[k];
+      if (!(xk >= lo[k] && xk <= hi[k])) return;    // RegBlock::inside
+    }
+    double q = vals(i, col);
+    if (mode == ComputeReduce::SUMSQ || mode == ComputeReduce::AVESQ) q *= q;
+    if (mode == ComputeReduce::MINN) {
+      if (q < a.v) a.v = q;
+    } else if (mode == ComputeReduce::MAXX) {
+      if (q > a.v) a.v = q;
+    } else
+      a.v += q;
+    a.n += 1.0;
+  }
+};
+
+// the arguments with the style LAMMPS' compute reduce knows (its constructor refuses any other
+// name: reduce/region/kk given by name, not by -sf kk, which passes the base name)
+std::vector<char *> base_args(int narg, char **arg)
+{
+  static char name[] = "reduce/region";
+  std::vector<char *> a(arg, arg + narg);
+  if (narg > 2) a[2] = name;
+  return a;
+}
+
+}    // namespace
+
+template <class DeviceType>
+ComputeReduceRegionKokkos<DeviceType>::ComputeReduceRegionKokkos(LAMMPS *lmp, int narg, char **arg) :
+    ComputeReduceRegion(lmp, narg, base_args(narg, arg).data())
+{
+  delete[] style;
+  style = utils::strdup(arg[2]);
+  kokkosable = 1;
+  execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
+  datamask_read = X_MASK | V_MASK | F_MASK | MASK_MASK;
+  datamask_modify = EMPTY_MASK;
+}
+
+/* the device path when the region and every value allow it (the header); else LAMMPS' compute */
+template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::init()
+{
+  ComputeReduceRegion::init();
+  device_path = false;
+  dvalues.assign(nvalues, DeviceValue{0, 0, nullptr});
+  Region *region = domain->regions[iregion];
+  if (!dynamic_cast<RegBlock *>(region) || !region->interior || !region->bboxflag || region->openflag ||
+      region->rotateflag || region->varshape)
+    return;
+  if (mode != SUM && mode != SUMSQ && mode != MINN && mode != MAXX && mode != AVE && mode != AVESQ) return;
+  if (replace)
+    for (int m = 0; m < nvalues; m++)
+      if (replace[m] >= 0) return;
+  for (int m = 0; m < nvalues; m++) {
+    DeviceValue &dv = dvalues[m];
+    dv.column = argindex[m];
+    if (which[m] == ArgInfo::X) dv.source = ATOM_X;
+    else if (which[m] == ArgInfo::V) dv.source = ATOM_V;
+    else if (which[m] == ArgInfo::F) dv.source = ATOM_F;
+    else if (which[m] == ArgInfo::FIX && flavor[m] == PERATOM && argindex[m] > 0 &&
+             (dv.fix = dynamic_cast<FixSPHJCThermalKokkosBase *>(modify->fix[value2index[m]]))) {
+      dv.source = FIX_STATE;
+      dv.column = argindex[m] - 1;
+    } else
+      return;
+  }
+  device_path = true;
+}
+
+template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::reduce_device(int m, double &value, double &count)
+{
+  const DeviceValue &dv = dvalues[m];
+  Region *region = domain->regions[iregion];
+  region->prematch();
+  atomKK->sync(execution_space, X_MASK | MASK_MASK | (dv.source == ATOM_V ? V_MASK : 0) | (dv.source == ATOM_F ? F_MASK : 0));
+  auto fill = [&](auto &k) {
+    k.x = atomKK->k_x.view<DeviceType>();
+    k.mask = atomKK->k_mask.view<DeviceType>();
+    k.groupbit = groupbit;
+    k.mode = mode;
+    const double lo[3] = {region->extent_xlo, region->extent_ylo, region->extent_zlo};
+    const double hi[3] = {region->extent_xhi, region->extent_yhi, region->extent_zhi};
+    const double d[3] = {region->moveflag ? region->dx : 0.0, region->moveflag ? region->dy : 0.0,
+                         region->moveflag ? region->dz : 0.0};
+    for (int c = 0; c < 3; c++) {
+      k.lo[c] = lo[c];
+      k.hi[c] = hi[c];
+      k.d[c] = d[c];
+    }
+    typename std::remove_reference<decltype(k)>::type::value_type r;
+    Kokkos::parallel_reduce("sphcut:reduce_region", sphcut::range<DeviceType>(0, atom->nlocal), k, r);
+    value = r.v;
+    count = r.n;
+  };
+  if (dv.source == FIX_STATE) {
+    dv.fix->k_state.template sync<DeviceType>();
+    RegionReduce<DeviceType, typename ArrayTypes<DeviceType>::t_double_2d> k;
+    k.vals = dv.fix->k_state.template view<DeviceType>();
+    k.col = dv.column;
+    fill(k);
+  } else {
+    RegionReduce<DeviceType, typename ArrayTypes<DeviceType>::t_x_array> k;
+    k.vals = dv.source == ATOM_X ? atomKK->k_x.view<DeviceType>()
+                                 : (dv.source == ATOM_V ? atomKK->k_v.view<DeviceType>() : atomKK->k_f.view<DeviceType>());
+    k.col = dv.column;
+    fill(k);
+  }
+}
+
+// value m over all ranks, as ComputeReduce::compute_scalar / compute_vector combine compute_one's
+template <class DeviceType> double ComputeReduceRegionKokkos<DeviceType>::reduce_all(int m)
+{
+  double one[2], all[2];
+  reduce_device(m, one[0], one[1]);
+  if (mode == MINN) MPI_Allreduce(one, all, 1, MPI_DOUBLE, MPI_MIN, world);
+  else if (mode == MAXX) MPI_Allreduce(one, all, 1, MPI_DOUBLE, MPI_MAX, world);
+  else MPI_Allreduce(one, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  if ((mode == AVE || mode == AVESQ) && all[1] > 0.0) all[0] /= all[1];
+  return all[0];
+}
+
+template <class DeviceType> double ComputeReduceRegionKokkos<DeviceType>::compute_scalar()
+{
+  if (!device_path) {
+    atomKK->sync(Host, ALL_MASK);
+    return ComputeReduceRegion::compute_scalar();
+  }
+  invoked_scalar = update->ntimestep;
+  scalar = reduce_all(0);
+  return scalar;
+}
+
+template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::compute_vector()
+{
+  if (!device_path) {
+    atomKK->sync(Host, ALL_MASK);
+    ComputeReduceRegion::compute_vector();
+    return;
+  }
+  invoked_vector = update->ntimestep;
+  for (int m = 0; m < nvalues; m++) vector[m] = reduce_all(m);
+}
+
+namespace LAMMPS_NS {
+template class ComputeReduceRegionKokkos<LMPDeviceType>;
+#ifdef LMP_KOKKOS_GPU
+template class ComputeReduceRegionKokkos<LMPHostType>;
+#endif
+}    // namespace LAMMPS_NS
