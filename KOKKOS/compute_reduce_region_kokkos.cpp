@@ -31,8 +31,8 @@ template <class DeviceType, class Values> struct RegionReduce {
   struct value_type {
     double v, n;
   };
-  typename ArrayTypes<DeviceType>::t_x_array_randomread x;
-  typename ArrayTypes<DeviceType>::t_int_1d_randomread mask;
+  typename sphcut::AtomTypes<DeviceType>::x_const x;
+  typename ArrayTypes<DeviceType>::t_int_1d_const mask;
   Values vals;
   int col, groupbit, mode;
   double lo[3], hi[3], d[3];
@@ -71,6 +71,23 @@ template <class DeviceType, class Values> struct RegionReduce {
   }
 };
 
+// what LAMMPS' compute reduce holds of input m and its region: arrays of its own in LAMMPS
+// 29Sep2021, a vector of inputs and the region itself in the LAMMPS versions since 2023 (the
+// versions between are not checked)
+#if SPHCUT_LAMMPS_VERSION >= 20230208
+#define SPHCUT_REDUCE_WHICH(m) values[m].which
+#define SPHCUT_REDUCE_ARGINDEX(m) values[m].argindex
+#define SPHCUT_REDUCE_PERATOM(m) (input_mode == PERATOM)
+#define SPHCUT_REDUCE_FIX(m) values[m].val.f
+#define SPHCUT_REDUCE_REGION region
+#else
+#define SPHCUT_REDUCE_WHICH(m) which[m]
+#define SPHCUT_REDUCE_ARGINDEX(m) argindex[m]
+#define SPHCUT_REDUCE_PERATOM(m) (flavor[m] == PERATOM)
+#define SPHCUT_REDUCE_FIX(m) modify->fix[value2index[m]]
+#define SPHCUT_REDUCE_REGION domain->regions[iregion]
+#endif
+
 // the arguments with the style LAMMPS' compute reduce knows (its constructor refuses any other
 // name: reduce/region/kk given by name, not by -sf kk, which passes the base name)
 std::vector<char *> base_args(int narg, char **arg)
@@ -101,9 +118,9 @@ template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::init()
   ComputeReduceRegion::init();
   device_path = false;
   dvalues.assign(nvalues, DeviceValue{0, 0, nullptr});
-  Region *region = domain->regions[iregion];
-  if (!dynamic_cast<RegBlock *>(region) || !region->interior || !region->bboxflag || region->openflag ||
-      region->rotateflag || region->varshape)
+  Region *reg = SPHCUT_REDUCE_REGION;
+  if (!dynamic_cast<RegBlock *>(reg) || !reg->interior || !reg->bboxflag || reg->openflag || reg->rotateflag ||
+      reg->varshape)
     return;
   if (mode != SUM && mode != SUMSQ && mode != MINN && mode != MAXX && mode != AVE && mode != AVESQ) return;
   if (replace)
@@ -111,14 +128,15 @@ template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::init()
       if (replace[m] >= 0) return;
   for (int m = 0; m < nvalues; m++) {
     DeviceValue &dv = dvalues[m];
-    dv.column = argindex[m];
-    if (which[m] == ArgInfo::X) dv.source = ATOM_X;
-    else if (which[m] == ArgInfo::V) dv.source = ATOM_V;
-    else if (which[m] == ArgInfo::F) dv.source = ATOM_F;
-    else if (which[m] == ArgInfo::FIX && flavor[m] == PERATOM && argindex[m] > 0 &&
-             (dv.fix = dynamic_cast<FixSPHJCThermalKokkosBase *>(modify->fix[value2index[m]]))) {
+    const int which_m = SPHCUT_REDUCE_WHICH(m), argindex_m = SPHCUT_REDUCE_ARGINDEX(m);
+    dv.column = argindex_m;
+    if (which_m == ArgInfo::X) dv.source = ATOM_X;
+    else if (which_m == ArgInfo::V) dv.source = ATOM_V;
+    else if (which_m == ArgInfo::F) dv.source = ATOM_F;
+    else if (which_m == ArgInfo::FIX && SPHCUT_REDUCE_PERATOM(m) && argindex_m > 0 &&
+             (dv.fix = dynamic_cast<FixSPHJCThermalKokkosBase *>(SPHCUT_REDUCE_FIX(m)))) {
       dv.source = FIX_STATE;
-      dv.column = argindex[m] - 1;
+      dv.column = argindex_m - 1;
     } else
       return;
   }
@@ -128,18 +146,17 @@ template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::init()
 template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::reduce_device(int m, double &value, double &count)
 {
   const DeviceValue &dv = dvalues[m];
-  Region *region = domain->regions[iregion];
-  region->prematch();
+  Region *reg = SPHCUT_REDUCE_REGION;
+  reg->prematch();
   atomKK->sync(execution_space, X_MASK | MASK_MASK | (dv.source == ATOM_V ? V_MASK : 0) | (dv.source == ATOM_F ? F_MASK : 0));
   auto fill = [&](auto &k) {
     k.x = atomKK->k_x.view<DeviceType>();
     k.mask = atomKK->k_mask.view<DeviceType>();
     k.groupbit = groupbit;
     k.mode = mode;
-    const double lo[3] = {region->extent_xlo, region->extent_ylo, region->extent_zlo};
-    const double hi[3] = {region->extent_xhi, region->extent_yhi, region->extent_zhi};
-    const double d[3] = {region->moveflag ? region->dx : 0.0, region->moveflag ? region->dy : 0.0,
-                         region->moveflag ? region->dz : 0.0};
+    const double lo[3] = {reg->extent_xlo, reg->extent_ylo, reg->extent_zlo};
+    const double hi[3] = {reg->extent_xhi, reg->extent_yhi, reg->extent_zhi};
+    const double d[3] = {reg->moveflag ? reg->dx : 0.0, reg->moveflag ? reg->dy : 0.0, reg->moveflag ? reg->dz : 0.0};
     for (int c = 0; c < 3; c++) {
       k.lo[c] = lo[c];
       k.hi[c] = hi[c];
@@ -156,10 +173,19 @@ template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::reduce_d
     k.vals = dv.fix->k_state.template view<DeviceType>();
     k.col = dv.column;
     fill(k);
+  } else if (dv.source == ATOM_X) {
+    RegionReduce<DeviceType, typename sphcut::AtomTypes<DeviceType>::x_const> k;
+    k.vals = atomKK->k_x.view<DeviceType>();
+    k.col = dv.column;
+    fill(k);
+  } else if (dv.source == ATOM_V) {
+    RegionReduce<DeviceType, typename sphcut::AtomTypes<DeviceType>::v_const> k;
+    k.vals = atomKK->k_v.view<DeviceType>();
+    k.col = dv.column;
+    fill(k);
   } else {
-    RegionReduce<DeviceType, typename ArrayTypes<DeviceType>::t_x_array> k;
-    k.vals = dv.source == ATOM_X ? atomKK->k_x.view<DeviceType>()
-                                 : (dv.source == ATOM_V ? atomKK->k_v.view<DeviceType>() : atomKK->k_f.view<DeviceType>());
+    RegionReduce<DeviceType, typename sphcut::AtomTypes<DeviceType>::f_const> k;
+    k.vals = atomKK->k_f.view<DeviceType>();
     k.col = dv.column;
     fill(k);
   }
