@@ -366,9 +366,18 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
     if (dynamic_cast<sphcut::AttachedStyle *>(modify->compute[i]) && !modify->compute[i]->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: compute {} {} is the CPU style; use its /kk variant "
                  "(-sf kk, or the style name with /kk)", modify->compute[i]->id, modify->compute[i]->style);
-  // the state comes to the host every peratom_every steps (default: the thermo interval) and on
-  // output steps; LAMMPS refuses consumers of f_ID per-atom values at other steps
-  peratom_freq = peratom_every > 0 ? peratom_every : (output->thermo_every > 0 ? output->thermo_every : 1);
+  // the state comes to the host every peratom_every steps and on output steps (thermo, dumps);
+  // LAMMPS refuses consumers of f_ID per-atom values at other steps.  By default the greatest
+  // common divisor of the thermo and dump intervals (every step without either): each dump
+  // step is an output step, at which the host copy is current, and LAMMPS' check of a dump
+  // (its interval a multiple of peratom_freq) then passes
+  if (peratom_every > 0) peratom_freq = peratom_every;
+  else {
+    bigint g = output->thermo_every > 0 ? output->thermo_every : 0;
+    for (int i = 0; i < output->ndump; i++)
+      for (bigint a = output->every_dump[i], b; a > 0; g = a, a = b) b = g % a;    // g = gcd(g, interval)
+    peratom_freq = g > 0 ? (int) g : 1;
+  }
   sphcut::fence_timers() = fence == 1;
   atomKK->k_mass.modify<LMPHostType>();
   atomKK->k_mass.sync<DeviceType>();

@@ -1291,6 +1291,57 @@ TEST(KokkosThermal, OutputsReducedOnTheDevice)
   for (int k = 0; k < 4; k++) EXPECT_NEAR(glob[1][k], glob[0][k], 1e-10 * fabs(glob[0][k])) << "f_sph element " << k;
 }
 
+// fix sph/jc-thermal/kk's per-atom array is valid on the host every gcd(thermo interval, dump
+// intervals) steps by default: each dump step is an output step, at which the fix copies it.  The
+// 2D example with a dump every 100 steps and thermo every 500 runs (LAMMPS checks the dump's
+// interval against peratom_freq: the thermo interval alone stopped it), and the dump's last frame
+// holds the temperatures of its step (their maximum: Tmax, reduced on the device)
+TEST(KokkosThermal, PerAtomIntervalFollowsTheDumps)
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  for (const int dump : {0, 100}) {
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    for (const std::string v : {"ny index 11", "xstart index 0.6", "steps index 300", "thermoevery index 500",
+                                "printevery index 100"})
+      l.cmd("variable " + v);
+    l.cmd("variable dumpevery index " + std::to_string(dump));
+    if (me == 0) std::remove("dump.cutting");
+    ASSERT_NO_THROW(l.lmp->input->file(CUT2D.c_str())) << "dump every " << dump;
+    const int is = l.lmp->modify->find_fix("sph");
+    ASSERT_GE(is, 0);
+    EXPECT_EQ(l.lmp->modify->fix[is]->peratom_freq, dump ? 100 : 500);
+    if (!dump) continue;
+    const double tmax = l.equal("f_sph[5]");
+    MPI_Barrier(MPI_COMM_WORLD);
+    // the last frame's temperature column
+    std::ifstream in("dump.cutting");
+    int col = -1, last_step = -1;
+    double fmax = 0.0;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("ITEM: TIMESTEP", 0) == 0) {
+        std::getline(in, line);
+        last_step = std::stoi(line);
+        fmax = 0.0;
+      } else if (line.rfind("ITEM: ATOMS", 0) == 0) {
+        std::istringstream h(line.substr(12));
+        int k = 0;
+        for (std::string name; h >> name; k++)
+          if (name == "temperature") col = k;
+      } else if (col >= 0 && !line.empty() && line.rfind("ITEM:", 0) != 0) {
+        std::istringstream r(line);
+        std::string tok;
+        for (int k = 0; k <= col && r >> tok; k++)
+          if (k == col) fmax = std::max(fmax, std::stod(tok));
+      }
+    }
+    ASSERT_GE(col, 0);
+    EXPECT_EQ(last_step, 300);
+    EXPECT_GT(tmax, 301.0);    // in contact: heated
+    EXPECT_NEAR(fmax, tmax, 1e-5 * tmax);
+  }
+}
+
 // fix contact/tri-penalty/kk evaluates only the particles near the tool (near_build: the
 // candidates within twice the neighbour skin of the tool's bin grid): in the 2D cut in contact
 // a few percent of the particles, and the cut of every particle evaluated (SPHCUT_CONTACT_NEAR=0)
