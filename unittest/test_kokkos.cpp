@@ -1389,6 +1389,23 @@ TEST(KokkosThermal, ExampleStepsRoundedToTheOutputInterval)
   EXPECT_EQ(l.lmp->neighbor->every, 10);
 }
 
+// the 3D example's spatial sort (-var sortevery, default auto): LAMMPS' 1000 steps on the CPU,
+// never under /kk (LAMMPS 29Sep2021 sorts on the host: every atom array and the state rows to the
+// host and back), and a value given is taken as it is
+TEST(KokkosThermal, Example3DSortsOnlyOnTheCpu)
+{
+  const std::string cut3d = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-3d-ti6al4v/in.cutting";
+  for (const int kk : {0, 1})
+    for (const char *sort : {"", "500"}) {
+      Lammps l(MPI_COMM_WORLD, kk ? KK_FULL : std::vector<std::string>{});
+      for (const std::string v : {"ny index 6", "nz index 3", "steps index 10", "dumpevery index 0"})
+        l.cmd("variable " + v);
+      if (*sort) l.cmd(std::string("variable sortevery index ") + sort);
+      l.lmp->input->file(cut3d.c_str());
+      EXPECT_EQ(l.lmp->atom->sortfreq, *sort ? 500 : (kk ? 0 : 1000)) << (kk ? "/kk" : "CPU") << " sortevery '" << sort << "'";
+    }
+}
+
 // the benchmarks' switch of the contact fix (SPHCUT_GATHER_FOLD: the tool-heat gather's own kernel):
 // anything but 0 or 1 is refused by name
 TEST(KokkosThermal, GatherFoldSwitchChecked)
