@@ -54,6 +54,10 @@
 #            without Tmax and Trake; no fix print) and every 100, in turn OUT_REPS (2) times; then
 #            SPHCUT_OUTPUT_SYNC 0 / 1 at every 10 steps (whole state rows and fix print's ALL_MASK,
 #            or the output columns); with OUT_NZ layers (e.g. 58) the 3D slab the same way
+#   outab    what a line of forces.dat costs, this tree (A) against a baseline (B: .carry/b-src.tar.gz),
+#            each with its own example inputs, in turn OUT_REPS (2) times: the 3D slab (41 across,
+#            OUT_NZ (58) layers, 200 steps) and the 2D cut at OUT_NY (41) across (2000 steps in
+#            contact), a line every 10 and every 100 steps (thermo every 1000); A also every 1000
 #   layout   the state row's layout against the integrator's access, without LAMMPS
 #            (bench/gpu/layout/state_layout.cu): the first-half kernel's loads and stores over 4.24 M,
 #            1.06 M and 18,272 rows stored as 504-byte rows (in place), by columns, in blocks of 32,
@@ -661,6 +665,28 @@ print_variant() {
     noprint) sed -e 's|^fix          series all print.*&$|variable noprint string \&|' \
                  -e 's|^             screen no title "# step time cut_mm.*$|"x"|' "$1" > "$2" ;;
   esac
+}
+
+outab() {
+  build_b || return 1
+  cd $W
+  local r v pe d bin pp ex in args
+  for r in $(seq ${OUT_REPS:-2}); do
+    for v in A B; do
+      bin=$BIN pp=$ROOT/build-cuda ex=$ROOT/examples
+      [ $v = B ] && { bin=$BIN_B; pp=$ROOT/build-cuda-b; ex=/tmp/sphcut-b/examples; }
+      for d in 3D 2D; do
+        for pe in 10 100 $([ $v = A ] && echo 1000); do
+          in=$ex/cutting-2d-ti6al4v/in.cutting args="-var ny ${OUT_NY:-41} -var steps 2000"
+          [ $d = 3D ] && { in=$ex/cutting-3d-ti6al4v/in.cutting; args="-var ny 41 -var nz ${OUT_NZ:-58} -var steps 200"; }
+          LAMMPS_PLUGIN_PATH=$pp timeout 280 "$bin" $GPUK -in $in $args -var xstart 1 $NEV -var thermoevery 1000 \
+            -var printevery $pe -var dumpevery 0 -log log.oab$v$d$pe$r > screen.oab$v$d$pe$r 2>&1 || tail -3 screen.oab$v$d$pe$r
+          say "  outab $v $d, a line every $pe steps, r$r: $([ $d = 3D ] && slab_rate log.oab$v$d$pe$r || step_rate log.oab$v$d$pe$r)"
+        done
+      done
+    done
+  done
+  cd "$ROOT"
 }
 
 outsteps() {
