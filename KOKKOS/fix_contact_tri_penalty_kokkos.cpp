@@ -416,8 +416,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own (the A/B)
   fold_gather = sphcut::env_switch(lmp, "SPHCUT_GATHER_FOLD", "Fix contact/tri-penalty/kk", 1);
   near_on = sphcut::env_switch(lmp, "SPHCUT_CONTACT_NEAR", "Fix contact/tri-penalty/kk", 1);
-  wide = sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(),
-                             sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix contact/tri-penalty/kk", -1));
+  wide = sphcut::wide_choice<DeviceType>(lmp, "Fix contact/tri-penalty/kk");
   near_calls = -1;    // built again at the setup
   if (heat && !heat->kokkosable)
     error->all(FLERR, "Fix contact/tri-penalty/kk: heat fix {} is not fix heat/fmfs/kk (run with -sf kk)", id_heat);

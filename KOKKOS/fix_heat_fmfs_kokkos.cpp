@@ -139,8 +139,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
 {
   FixHeatFMFS::init();
   sphcut::kokkos_full_list<DeviceType>(neighbor);
-  wide = sphcut::wide_choice(sphcut::on_host_backend<DeviceType>(),
-                             sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix heat/fmfs/kk", -1));
+  wide = sphcut::wide_choice<DeviceType>(lmp, "Fix heat/fmfs/kk");
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   surfkk = nullptr;

@@ -323,6 +323,13 @@ inline int env_switch(LAMMPS_NS::LAMMPS *lmp, const char *name, const char *who,
   return v == "1";
 }
 
+// a style's choice of the wide reductions (wide_choice) on its device type, SPHCUT_WIDE_REDUCE read
+// for it (who: the style, for the error on a bad value)
+template <class DeviceType> bool wide_choice(LAMMPS_NS::LAMMPS *lmp, const char *who)
+{
+  return wide_choice(on_host_backend<DeviceType>(), env_switch(lmp, "SPHCUT_WIDE_REDUCE", who, -1));
+}
+
 // forward communication of the per-atom columns col0 .. col0 + ncol - 1 of a DualView, on the
 // device (pack_/unpack_forward_comm_fix_kokkos of the /kk fixes) and on the host (the classic
 // path of CommKokkos)
