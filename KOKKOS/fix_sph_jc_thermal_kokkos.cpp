@@ -346,7 +346,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   clear_f = sphcut::env_switch(lmp, "SPHCUT_FORCE_CLEAR", "Fix sph/jc-thermal/kk", 1) && force_clear_allowed();
   // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1 forces)
   stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1);
-  wide = sphcut::wide_choice(ON_HOST, sphcut::env_switch(lmp, "SPHCUT_WIDE_REDUCE", "Fix sph/jc-thermal/kk", -1));
+  wide = sphcut::wide_choice<DeviceType>(lmp, "Fix sph/jc-thermal/kk");
   // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
   // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
@@ -373,9 +373,16 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   // (its interval a multiple of peratom_freq) then passes
   if (peratom_every > 0) peratom_freq = peratom_every;
   else {
-    bigint g = output->thermo_every > 0 ? output->thermo_every : 0;
-    for (int i = 0; i < output->ndump; i++)
-      for (bigint a = output->every_dump[i], b; a > 0; g = a, a = b) b = g % a;    // g = gcd(g, interval)
+    auto gcd = [](bigint a, bigint b) {
+      while (b > 0) {
+        const bigint r = a % b;
+        a = b;
+        b = r;
+      }
+      return a;
+    };
+    bigint g = std::max(output->thermo_every, 0);
+    for (int i = 0; i < output->ndump; i++) g = gcd(g, std::max(output->every_dump[i], 0));
     peratom_freq = g > 0 ? (int) g : 1;
   }
   sphcut::fence_timers() = fence == 1;
