@@ -149,46 +149,38 @@ template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::reduce_d
   Region *reg = SPHCUT_REDUCE_REGION;
   reg->prematch();
   atomKK->sync(execution_space, X_MASK | MASK_MASK | (dv.source == ATOM_V ? V_MASK : 0) | (dv.source == ATOM_F ? F_MASK : 0));
-  auto fill = [&](auto &k) {
+  // one reduction of column dv.column of vals over the group's particles in the block
+  auto launch = [&](auto vals) {
+    RegionReduce<DeviceType, decltype(vals)> k;
     k.x = atomKK->k_x.view<DeviceType>();
     k.mask = atomKK->k_mask.view<DeviceType>();
+    k.vals = vals;
+    k.col = dv.column;
     k.groupbit = groupbit;
     k.mode = mode;
     const double lo[3] = {reg->extent_xlo, reg->extent_ylo, reg->extent_zlo};
     const double hi[3] = {reg->extent_xhi, reg->extent_yhi, reg->extent_zhi};
-    const double d[3] = {reg->moveflag ? reg->dx : 0.0, reg->moveflag ? reg->dy : 0.0, reg->moveflag ? reg->dz : 0.0};
+    const double d[3] = {reg->dx, reg->dy, reg->dz};
     for (int c = 0; c < 3; c++) {
       k.lo[c] = lo[c];
       k.hi[c] = hi[c];
-      k.d[c] = d[c];
+      k.d[c] = reg->moveflag ? d[c] : 0.0;
     }
-    typename std::remove_reference<decltype(k)>::type::value_type r;
+    typename decltype(k)::value_type r;
     Kokkos::parallel_reduce("sphcut:reduce_region", sphcut::range<DeviceType>(0, atom->nlocal), k, r);
     value = r.v;
     count = r.n;
   };
+  typedef sphcut::AtomTypes<DeviceType> AT3;
   if (dv.source == FIX_STATE) {
     dv.fix->k_state.template sync<DeviceType>();
-    RegionReduce<DeviceType, typename ArrayTypes<DeviceType>::t_double_2d> k;
-    k.vals = dv.fix->k_state.template view<DeviceType>();
-    k.col = dv.column;
-    fill(k);
-  } else if (dv.source == ATOM_X) {
-    RegionReduce<DeviceType, typename sphcut::AtomTypes<DeviceType>::x_const> k;
-    k.vals = atomKK->k_x.view<DeviceType>();
-    k.col = dv.column;
-    fill(k);
-  } else if (dv.source == ATOM_V) {
-    RegionReduce<DeviceType, typename sphcut::AtomTypes<DeviceType>::v_const> k;
-    k.vals = atomKK->k_v.view<DeviceType>();
-    k.col = dv.column;
-    fill(k);
-  } else {
-    RegionReduce<DeviceType, typename sphcut::AtomTypes<DeviceType>::f_const> k;
-    k.vals = atomKK->k_f.view<DeviceType>();
-    k.col = dv.column;
-    fill(k);
-  }
+    launch(dv.fix->k_state.template view<DeviceType>());
+  } else if (dv.source == ATOM_X)
+    launch(typename AT3::x_const(atomKK->k_x.view<DeviceType>()));
+  else if (dv.source == ATOM_V)
+    launch(typename AT3::v_const(atomKK->k_v.view<DeviceType>()));
+  else
+    launch(typename AT3::f_const(atomKK->k_f.view<DeviceType>()));
 }
 
 // value m over all ranks, as ComputeReduce::compute_scalar / compute_vector combine compute_one's
