@@ -102,7 +102,7 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_int_1d_const mask, type;
   typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
   typename AT::t_double_2d state;
-  typename AT::t_double_2d qtw;       // tool heat per kernel weight (one column)
+  typename AT::t_double_2d qtw;       // tool heat per kernel weight, the particle's position
   typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
   Kokkos::View<const sphcut::Material *, mem> mat;
   Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
@@ -220,6 +220,7 @@ template <class DeviceType> struct ContactKernel {
       }
       if (!(wsum > 0.0)) return false;
       k.qtw(i, 0) = q / wsum;
+      for (int d = 0; d < 3; d++) k.qtw(i, 1 + d) = k.x(i, d);    // where the gather finds it (ToolHeatGather)
       return true;
     }
   };
@@ -487,7 +488,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   sphcut::FencedTimer timer(cpu_time);
   atomKK->sync(execution_space, datamask_read);
   fixkk->k_state.template sync<DeviceType>();
-  if ((int) k_qtw.extent(0) < atom->nmax) k_qtw = DAT::tdual_double_2d("contact:qtw", atom->nmax, 1);
+  if ((int) k_qtw.extent(0) < atom->nmax) k_qtw = DAT::tdual_double_2d("contact:qtw", atom->nmax, 4);
   k_qtw.template sync<DeviceType>();
   if (atom->nmax > nmax_out) {
     nmax_out = atom->nmax;
@@ -725,7 +726,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
 
 /* the tool particles take the tool's share of the friction heat of the contact particles
    around them, kernel weighted (sphcut::ToolHeatGather; the CPU fix scatters it from the contact
-   particle's side): in fix sph/jc-thermal/kk's corrector kernel of this step when it takes it
+   particle's side): in fix sph/jc-thermal/kk's corrector kernel of this step (or of the next
+   step's first half, with the positions of the local particles from qtw) when it takes it
    (not at a setup; SPHCUT_GATHER_FOLD=0 never hands it over), else here, a kernel over the tool
    particles next to non-tool ones (the others have no contact particle around them), each over
    its non-tool neighbours in the list's order */
@@ -744,6 +746,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   g.acc = update->setupflag ? 0.0 : update->dt;
   g.av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
   g.qtw = k_qtw.template view<DeviceType>();
+  g.nlocal = atom->nlocal;
   g.xoff = d_xoff;
   g.xnb = d_xnb;
   g.mat = d_mat;

@@ -110,7 +110,8 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   Kokkos::View<double *, mem> d_h, d_dp, d_hij;  // per type (h, spacing), per type pair (h)
   Kokkos::View<double *, mem> d_mut, d_muv;      // mu(T) table
   sphcut::StagedColumns<DeviceType> stage_qtw;    // k_qtw's rows on the classic (host) forward communication
-  DAT::tdual_double_2d k_qtw;                    // tool heat per kernel weight of each contact particle (1 column)
+  DAT::tdual_double_2d k_qtw;    // tool heat per kernel weight of each contact particle, then its position (4
+                                 // columns; the heat alone goes to the ghosts)
   DAT::tdual_double_2d k_fout;                   // per-atom output (host view = fcontact)
   Kokkos::View<int *, mem> d_feature;            // tool feature of each element
   void upload();

@@ -25,6 +25,12 @@
                         trip), the new dt (one MPI_Allreduce); the plastic
                         work stays summed on the device between; the state
                         to the host only on output steps
+   Where nothing reads v, the state or the corrector's sums before the next
+   step (no dt, output or other fix's end_of_step step, not the run's last:
+   defers_corrector), final_integrate leaves its reduction to the next
+   step's initial_integrate, whose one kernel then runs each particle's
+   corrector and its first half (CorrectThenFirstHalf): one launch and one
+   pass over the state rows fewer a step.
    Host copies of the state otherwise happen only where LAMMPS needs it on
    the host: restart, setup, and with migrate host exchange and sorting.
 
@@ -202,13 +208,17 @@ template <class DeviceType> struct SecondHalf {
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
   {
     if (gather.active) gather(i);    // a tool particle's share of the friction heat, before its corrector
+    particle(i, &state(i, 0), r);
+  }
+  // the corrector of particle i on its state row s (in place or a staged copy: CorrectThenFirstHalf)
+  KOKKOS_INLINE_FUNCTION void particle(const int i, double *s, value_type r) const
+  {
     if (!(mask(i) & groupbit)) return;
     const int t = type(i);
     const int role = sphcut::role_from_mask(mask(i), toolbit, clampbit);
     const double m = use_rmass ? rmass(i) : mass(t);
     double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
     const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
-    double *s = &state(i, 0);
     if (mask(i) & hgb) sphcut::add_held_rate(s);    // an attached heat style's held rate
     r[WORK] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
     // the heat style's Dirichlet groups back to their temperature, and its thermal dt limit (its
@@ -223,6 +233,60 @@ template <class DeviceType> struct SecondHalf {
       const double d = sphcut::particle_dt(mat(t), role, h(t), vi, s[FixSPHJCThermal::TEMP], cfl, vmax, tmax);
       if (d < r[DT]) r[DT] = d;
     }
+  }
+};
+
+/* the corrector of the step before (SecondHalf, left pending by that step's final_integrate:
+   FixSPHJCThermalKokkos::defers_corrector) and the first half of this step (FirstHalf) in one pass,
+   each particle's row read and written once: its corrector, then its kick, drift and predictor
+   from the same forces.  Each reads only its own particle's data, but for the tool-heat gather of
+   the step before (a tool particle's share of its contact neighbours' heat, before its corrector),
+   which reads their heat and local positions as the contact kernel left them (the qtw rows), not
+   the x that their threads drift here; so the order within a particle is the whole order: the same
+   arithmetic as the two kernels.  The reduction is the corrector's (its sums; no dt limits: a step
+   whose limits the host reads is never deferred)                                              */
+template <class DeviceType> struct CorrectThenFirstHalf {
+  typedef DeviceType device_type;
+  typedef double value_type[];
+  const unsigned value_count = 4;
+  SecondHalf<DeviceType> c;
+  FirstHalf<DeviceType> p;
+  KOKKOS_INLINE_FUNCTION void init(value_type r) const { c.init(r); }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const { c.join(d, s); }
+  KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return SecondHalf<DeviceType>::is_min(k); }
+  KOKKOS_INLINE_FUNCTION void final(value_type r) const { c.final(r); }
+  KOKKOS_INLINE_FUNCTION void row(const int i, double *s, value_type r) const
+  {
+    if (c.gather.active) c.gather(i, s);
+    c.particle(i, s, r);
+    p.particle(i, s);
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const { row(i, &p.state(i, 0), r); }
+};
+
+/* the same on team-staged rows (sphcut::stage_in / stage_out, as FirstHalf's team kernel): each
+   team joins its threads' sums (team_reduce) and its first thread joins them into the wide
+   reduction's accumulator (sphcut::WideReduce::join: atomics, the last team runs the final), on
+   every backend                                                                                  */
+template <class DeviceType> struct CorrectThenFirstHalfStaged {
+  typedef DeviceType device_type;
+  sphcut::WideReduce<DeviceType, 4, CorrectThenFirstHalf<DeviceType>> w;
+  KOKKOS_INLINE_FUNCTION void operator()(const typename Kokkos::TeamPolicy<DeviceType>::member_type &t) const
+  {
+    const auto &k = w.f;
+    const int first = t.league_rank() * sphcut::STAGE_ROWS;
+    const int cnt = w.end - first < sphcut::STAGE_ROWS ? w.end - first : sphcut::STAGE_ROWS;
+    double *sh = sphcut::stage_in(t, k.p.state, first, cnt);
+    const int ncol = (int) k.p.state.extent(1);
+    double r[4];
+    k.init(r);
+    for (int l = t.team_rank(); l < cnt; l += t.team_size()) k.row(first + l, sh + l * ncol, r);
+    sphcut::stage_out(t, k.p.state, first, cnt, sh);
+    for (int q = 0; q < 4; q++) {
+      if (k.is_min(q)) t.team_reduce(Kokkos::Min<double>(r[q]));
+      else t.team_reduce(Kokkos::Sum<double>(r[q]));
+    }
+    Kokkos::single(Kokkos::PerTeam(t), [&]() { w.join(r, t.league_size()); });
   }
 };
 
@@ -347,6 +411,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1 forces)
   stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1);
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix sph/jc-thermal/kk");
+  fuse = sphcut::env_switch(lmp, "SPHCUT_FUSE_STEPS", "Fix sph/jc-thermal/kk", 1) && fuse_allowed();
+  defer_step = -1;
   // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
   // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
@@ -427,6 +493,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_fo
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vflag)
 {
+  settle_corrector();    // (none is left pending across runs: post_run)
+  defer_step = -1;
   atomKK->sync(execution_space, datamask_read);
   FixSPHJCThermal::setup(vflag);    // timers, first stable dt (stable_dt below, on the device)
   outputs_step = -1;
@@ -446,6 +514,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vf
 // the plastic work summed on the device since the setup, into the host's plastic_work
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::fetch_work()
 {
+  settle_corrector();
   k_dtlim.sync_host();
   plastic_work = k_dtlim.view_host()(STEP_WORK);
 }
@@ -572,7 +641,21 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   if (prepack) k.packer = pairkk->packer_for_fix();
   const int zero_f = k.zero_f = clear_f_active;
   k.n = atom->nlocal;
-  if (staged(k.n))
+  if (corrector_pending) {
+    // the step before left its corrector to this kernel (defers_corrector)
+    corrector_pending = 0;
+    CorrectThenFirstHalf<DeviceType> c;
+    c.p = k;
+    corrector_views(c.c, false);
+    if (staged(k.n) && k.n > 0) {
+      const CorrectThenFirstHalfStaged<DeviceType> w{
+          sphcut::wide_reducer<DeviceType, 4>("sphcut:sph:final_integrate", k.n, c, d_second_acc)};
+      Kokkos::parallel_for("sphcut:sph:correct_then_first_half_staged",
+                           sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1)), w);
+    } else
+      sphcut::reduce<DeviceType, 4>("sphcut:sph:correct_then_first_half", k.n, c, wide, d_second, d_second_acc);
+    corrector_done(c.c);
+  } else if (staged(k.n))
     Kokkos::parallel_for("sphcut:sph:initial_integrate_staged",
                          sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1)), k);
   else
@@ -646,15 +729,19 @@ void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, in
 
 /* ---------------------------------------------------------------------- */
 
-template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integrate()
+/* the corrector's kernel arguments (SecondHalf): now, those of this step's final_integrate; else
+   those of the corrector the step before left pending (defers_corrector), run with this step's
+   first half (initial_integrate) or alone (settle_corrector): that step's dt, no dt limits, no
+   tool-heat gather but that step's (pending_gather) */
+template <class DeviceType> template <class K> void FixSPHJCThermalKokkos<DeviceType>::corrector_views(K &k, bool now)
 {
-  sphcut::FencedTimer timer(cpu_time);
-  atomKK->sync(execution_space, datamask_read);
-  k_state.template sync<DeviceType>();
-  SecondHalf<DeviceType> k;
   integrator_views(k);
+  if (!now) {
+    k.dt = pending_dt;
+    k.dtf = pending_dtf;
+  }
   k.h = d_h;
-  k.want_dt = cfl > 0.0;
+  k.want_dt = now && cfl > 0.0;
   k.cfl = cfl;
   k.vmax = vmax;
   k.tmax = tmax;
@@ -665,7 +752,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   k.dtemp = d_dirtemp;
   k.hgb = heat_rules.gb;
   k.nd = (int) heat_rules.bits.size();
-  k.want_lim = cfl > 0.0 && hs && hs->dt_slot >= 0 && hs->dt_slot < (int) slot_owner.size() &&
+  k.want_lim = now && cfl > 0.0 && hs && hs->dt_slot >= 0 && hs->dt_slot < (int) slot_owner.size() &&
       slot_owner[hs->dt_slot] == hs;
   k.every = heat_rules.every;
   k.F = thermal_cfl;
@@ -676,10 +763,15 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   // into the device views (no fence): final writes the sums into k_dtlim, the heat style's slot
   // and k_qdir; end_of_step reads k_dtlim with the styles' slots
   k.result = k_dtlim.template view<DeviceType>();
-  if (gather_step == update->ntimestep) k.gather = gather;
+  if (now ? gather_step == update->ntimestep : pending_gather) k.gather = gather;
   gather_step = -1;    // used once (a reset_timestep cannot bring it back)
+  if (!now) pending_gather = 0;
   if (d_second.extent(0) != 4) d_second = Kokkos::View<double *, typename DeviceType::memory_space>("sph:second", 4);
-  sphcut::reduce<DeviceType, 4>("sphcut:sph:final_integrate", atom->nlocal, k, wide, d_second, d_second_acc);
+}
+
+// what the corrector's kernel (k, from corrector_views) modified
+template <class DeviceType> template <class K> void FixSPHJCThermalKokkos<DeviceType>::corrector_done(const K &k)
+{
   k_dtlim.template modify<DeviceType>();
   if (k.nd) {
     k_qdir.template modify<DeviceType>();
@@ -691,6 +783,83 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   }
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
+}
+
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integrate()
+{
+  sphcut::FencedTimer timer(cpu_time);
+  if (defers_corrector()) {
+    // the next step's initial_integrate runs this corrector in its kernel (the same dt: a step
+    // that changes it is not deferred), with the tool-heat gather of this step if one was taken
+    corrector_pending = 1;
+    pending_dt = dtv;
+    pending_dtf = dtf;
+    pending_gather = gather_step == update->ntimestep;
+    gather_step = -1;
+    return;
+  }
+  corrector(true);
+}
+
+// the corrector as a kernel of its own: this step's (now), or the one left pending
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::corrector(bool now)
+{
+  atomKK->sync(execution_space, datamask_read);
+  k_state.template sync<DeviceType>();
+  SecondHalf<DeviceType> k;
+  corrector_views(k, now);
+  sphcut::reduce<DeviceType, 4>("sphcut:sph:final_integrate", atom->nlocal, k, wide, d_second, d_second_acc);
+  corrector_done(k);
+}
+
+/* the corrector left pending (defers_corrector) now, in a kernel of its own: before anything reads
+   the state, v or the step's sums outside the steps' kernels (the end of a run, a restart, an
+   output) */
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::settle_corrector()
+{
+  if (!corrector_pending) return;
+  corrector_pending = 0;
+  corrector(false);
+}
+
+/* whether this step's corrector waits for the next step's initial_integrate, which runs it in its
+   first-half kernel (CorrectThenFirstHalf: one pass over the state rows and one launch fewer a
+   step).  Between this step's final_integrate and the next step's initial_integrate nothing may
+   then read v, the state or the corrector's sums: not at a dt step (end_of_step reads the Courant
+   limit), an output step or a peratom_freq step (the host copies), the run's last step, nor where
+   another fix's end_of_step runs this step (fuse_watch: fix print, halt, ave/time ... every
+   nevery steps; an attached style only if its end_of_step touches the particles).  init sets fuse
+   (SPHCUT_FUSE_STEPS, fuse_allowed); the answer is kept for the step */
+template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::defers_corrector()
+{
+  const bigint s = update->ntimestep;
+  if (s == defer_step) return defer_now;
+  defer_step = s;
+  defer_now = fuse && !update->setupflag && s < update->laststep && !(cfl > 0.0 && dt_step()) &&
+      s != output->next && s % peratom_freq != 0;
+  for (const Fix *f : fuse_watch)
+    if (f->nevery > 0 && s % f->nevery == 0) defer_now = false;
+  return defer_now;
+}
+
+/* whether a step's corrector may wait for the next step's first half at all (defers_corrector):
+   the Verlet integrator, and no other fix (but the attached sphcut styles) integrates, that is has
+   initial_integrate (it would read v or the state before the corrector of the step before) or
+   final_integrate (after this fix's, it would read them before the corrector).  The fixes with
+   end_of_step whose steps are then not deferred go into fuse_watch */
+template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::fuse_allowed()
+{
+  fuse_watch.clear();
+  if (!utils::strmatch(update->integrate_style, "^verlet") || utils::strmatch(update->integrate_style, "^verlet/split"))
+    return false;
+  for (int i = 0; i < modify->nfix; i++) {
+    if (modify->fix[i] == this) continue;
+    const int m = modify->fmask[i];
+    auto *st = dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i]);
+    if (!st && (m & (FixConst::INITIAL_INTEGRATE | FixConst::FINAL_INTEGRATE))) return false;
+    if ((m & FixConst::END_OF_STEP) && (!st || st->end_of_step_reads_particles())) fuse_watch.push_back(modify->fix[i]);
+  }
+  return true;
 }
 
 /* whether the other fixes leave the atoms' data alone between this fix's initial_integrate and
@@ -742,7 +911,8 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::force_clear_
 }
 
 /* fix contact/tri-penalty/kk's tool-heat gather (sphcut_tool_heat_kokkos.h) of this step, applied by
-   final_integrate's kernel to each particle before its corrector instead of in a kernel of the
+   the corrector's kernel (final_integrate's, or the next step's first-half kernel where the
+   corrector waits for it) to each particle before its corrector instead of in a kernel of the
    contact fix: its heat joins DTEMP before the held rate, in the order the separate kernel gave.
    The contact fix hands it over in post_force (after its contact kernel and the ghosts' qtw), which
    LAMMPS calls before final_integrate in every step; not at a setup (no final_integrate follows).
@@ -781,6 +951,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
    outputs after it; at a setup it is always made.                                          */
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::sync_outputs_host()
 {
+  settle_corrector();
   if (!output_sync) {
     k_state.sync_host();
     return;
@@ -797,6 +968,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::sync_outputs
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
 {
+  settle_corrector();    // a run that ended after a deferred step (a timeout)
   report_migration();
   k_state.sync_host();    // the state readable after the run (library interface, tests)
   fetch_work();
@@ -826,6 +998,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
    copies nothing per atom to the host; element 4 is fetch_work's */
 template <class DeviceType> double FixSPHJCThermalKokkos<DeviceType>::compute_vector(int n)
 {
+  settle_corrector();
   if (n == 0) return update->dt;
   if (n == 3) {
     fetch_work();

@@ -170,6 +170,21 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   static constexpr bool ON_HOST = sphcut::on_host_backend<DeviceType>();
   bool force_clear_allowed() const;
   template <class K> void integrator_views(K &k);    // (.cpp: FirstHalf, SecondHalf)
+  // a step's corrector in the next step's first-half kernel (.cpp, defers_corrector): fuse (init:
+  // SPHCUT_FUSE_STEPS, fuse_allowed), the fixes whose end_of_step steps keep their corrector
+  // (fuse_watch), the step asked last and its answer, the corrector left pending and its dt
+  int fuse = 0;
+  std::vector<const Fix *> fuse_watch;
+  bigint defer_step = -1;
+  bool defer_now = false;
+  int corrector_pending = 0, pending_gather = 0;    // (and the tool-heat gather taken that step: gather)
+  double pending_dt = 0.0, pending_dtf = 0.0;
+  bool fuse_allowed();
+  bool defers_corrector();
+  void corrector(bool now);
+  void settle_corrector();
+  template <class K> void corrector_views(K &k, bool now);
+  template <class K> void corrector_done(const K &k);
   sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
   bigint gather_step = -1;
   const void *gather_owner = nullptr;

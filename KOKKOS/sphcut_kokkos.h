@@ -228,17 +228,27 @@ inline bool wide_choice(bool host, int env)
   return env >= 0 ? env == 1 : !host;
 }
 
-// wide_reduce of functor f (N values, see WideReduce) over 0 .. n - 1 through the accumulator acc
-// (allocated and set to the functor's init here when it has fewer than N + 1 values; shared by
-// functors of one init); with no index a kernel of one thread runs final
-template <class DeviceType, int N, int MINB = 0, class Functor>
-void wide_reduce(const std::string &name, int n, const Functor &f,
-                 Kokkos::View<double *, typename DeviceType::memory_space> &acc)
+// the WideReduce of functor f (N values) over 0 .. n - 1 through the accumulator acc (allocated
+// and set to the functor's init here when it has fewer than N + 1 values; shared by functors of
+// one init), for a kernel that joins its own values (a team kernel: WideReduce::join); and
+// wide_reduce: that reduction as a kernel of one thread an index; with no index a kernel of one
+// thread runs final
+template <class DeviceType, int N, class Functor>
+WideReduce<DeviceType, N, Functor> wide_reducer(const std::string &name, int n, const Functor &f,
+                                                Kokkos::View<double *, typename DeviceType::memory_space> &acc)
 {
   const bool fresh = (int) acc.extent(0) < N + 1;
   if (fresh) acc = Kokkos::View<double *, typename DeviceType::memory_space>(name + ":acc", N + 1);
   const WideReduce<DeviceType, N, Functor> w{f, acc, n};
   if (fresh) Kokkos::parallel_for(name + ":acc_init", range<DeviceType>(0, 1), KOKKOS_LAMBDA(const int) { w.reset(); });
+  return w;
+}
+
+template <class DeviceType, int N, int MINB = 0, class Functor>
+void wide_reduce(const std::string &name, int n, const Functor &f,
+                 Kokkos::View<double *, typename DeviceType::memory_space> &acc)
+{
+  const auto w = wide_reducer<DeviceType, N>(name, n, f, acc);
   if (n > 0) {
     Kokkos::parallel_for(name, range<DeviceType, MINB>(0, n), w);
     return;

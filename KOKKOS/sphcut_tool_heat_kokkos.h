@@ -28,15 +28,20 @@ template <class DeviceType> struct ToolHeatGather {
   int tb = 0, hb = 0;                   // the tool particles' and the heat group's mask bits
   int kern = 0, dim = 3, ntp = 0, use_rmass = 0;
   double acc = 0.0;                     // the time the heat acts for (dt; 0 at a setup)
+  int nlocal = 0;                       // the local particles (their positions: from qtw)
   AtomViews<DeviceType> av;             // x, mask, type, masses and the state (DTEMP)
-  typename ArrayTypes<DeviceType>::t_double_2d qtw;    // heat per kernel weight of each contact particle
+  // heat per kernel weight of each contact particle (column 0) and, for a local one, its position
+  // when the contact kernel set that (1-3): fix sph/jc-thermal/kk may gather in the kernel of the
+  // next step's first half, where the local particles' x changes while the tool particles gather
+  typename ArrayTypes<DeviceType>::t_double_2d qtw;
   Kokkos::View<const int *, mem> xoff, xnb;            // the cross neighbours (a tool particle's non-tool ones)
   Kokkos::View<const Material *, mem> mat;
   Kokkos::View<const double *, mem> hij;               // pair smoothing lengths, type by type
   Kokkos::View<double, mem> qsrc;                      // the heat booked into the particles (energy)
 
-  // tool particle j (any other particle: nothing) takes its share into its temperature rate
-  KOKKOS_INLINE_FUNCTION void operator()(const int j) const
+  // tool particle j (any other particle: nothing) takes its share into its temperature rate, on
+  // its state row sj (the row in place: sj null; a staged copy in fix sph/jc-thermal/kk's kernel)
+  KOKKOS_INLINE_FUNCTION void operator()(const int j, double *sj = nullptr) const
   {
     if (!(av.mask(j) & tb)) return;
     double p = 0.0;
@@ -44,13 +49,16 @@ template <class DeviceType> struct ToolHeatGather {
       const int i = xnb(c);
       if (!(qtw(i, 0) > 0.0)) continue;
       double r2 = 0.0;
-      for (int k = 0; k < 3; k++) r2 += (av.x(i, k) - av.x(j, k)) * (av.x(i, k) - av.x(j, k));
+      for (int k = 0; k < 3; k++) {
+        const double xi = i < nlocal ? qtw(i, 1 + k) : av.x(i, k);    // (a ghost's x stays)
+        r2 += (xi - av.x(j, k)) * (xi - av.x(j, k));
+      }
       const double w = tool_heat_weight(kern, dim, r2, hij(av.type(i) * ntp + av.type(j)));
       if (w > 0.0) p += qtw(i, 0) * w;
     }
     if (!(p > 0.0) || !(av.mask(j) & hb)) return;
     const double m = use_rmass ? av.rmass(j) : av.mass(av.type(j));
-    if (!add_source_heat(av.st(j, StateLayout::DTEMP), p, m, mat(av.type(j)).cp)) return;
+    if (!add_source_heat(sj ? sj[StateLayout::DTEMP] : av.st(j, StateLayout::DTEMP), p, m, mat(av.type(j)).cp)) return;
     if (acc > 0.0) Kokkos::atomic_add(&qsrc(), p * acc);
   }
 };

@@ -55,6 +55,12 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   std::vector<double> current_elements() const;
   int element_vertices() const { return nvert; }
   std::string timing_name() const override { return std::string("fix contact/tri-penalty ") + id; }
+  // its end_of_step sets the tool particles' velocity and evaluates the velocity variables; with a
+  // constant velocity it reads only its own sums (tool fields, outputs, the geometry file)
+  bool end_of_step_reads_particles() const override
+  {
+    return !vvar[0].empty() || !vvar[1].empty() || !vvar[2].empty();
+  }
   // time step limit of the penalty spring on this rank (fix sph/jc-thermal stable_dt takes the
   // minimum over the ranks): dtfac cfl times the stability limit of the particles in or about to be in contact
   double dt_limit(double cfl, double) const override { return dt_crit < 1.0e300 ? dtfac * cfl * dt_crit : 1.0e300; }

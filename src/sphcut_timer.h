@@ -61,6 +61,10 @@ class AttachedStyle {
   // name for the message that particles without an initial temperature start at their
   // material's Tref (fix sph/jc-thermal, no keyword temp); empty: the style does not care
   virtual std::string starts_from_temperature() const { return ""; }
+  // whether this style's end_of_step (if it has one) may read or change the particles' data
+  // (positions, velocities, the state) or evaluate user variables: fix sph/jc-thermal/kk then
+  // finishes its corrector at each such step instead of leaving it to the next step's first half
+  virtual bool end_of_step_reads_particles() const { return true; }
   double cpu_time = 0.0;
 };
 

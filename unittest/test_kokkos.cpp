@@ -12,9 +12,11 @@
 #include "atom_masks.h"
 #include "compute.h"
 #include "fix.h"
+#include "fix_external.h"
 #include "input.h"
 #include "modify.h"
 #include "neighbor.h"
+#include "timer.h"
 #include "update.h"
 
 #include <Kokkos_Core.hpp>
@@ -734,9 +736,10 @@ const std::string CUT2D = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d
 
 // the 2D example at 11 across under /kk with its launches counted (the counters above reset
 // first): the tool xstart spacings from the workpiece, steps steps, a line of forces.dat (and the
-// per-atom outputs) every 10 steps, and the environment switch env=value set for the run (env
-// nullptr: none)
-std::unique_ptr<Lammps> counted_cut(const std::string &xstart, int steps, const char *env, const char *value)
+// per-atom outputs) every 10 steps, the environment switch env=value set for the run (env
+// nullptr: none) and the example's variables vars ("name index value")
+std::unique_ptr<Lammps> counted_cut(const std::string &xstart, int steps, const char *env, const char *value,
+                                    const std::vector<std::string> &vars = {})
 {
   if (env) setenv(env, value, 1);
   auto l = std::make_unique<Lammps>(MPI_COMM_WORLD, KK_FULL);
@@ -744,6 +747,7 @@ std::unique_ptr<Lammps> counted_cut(const std::string &xstart, int steps, const 
                   std::string("dumpevery index 0"), std::string("thermoevery index 100"),
                   std::string("printevery index 10")})
     l->cmd("variable " + v);
+  for (auto &v : vars) l->cmd("variable " + v);
   launches.clear();
   scans.clear();
   sums_fills = 0;
@@ -848,9 +852,10 @@ TEST(KokkosThermal, OrdinaryStepLaunchesNoHeatKernel)
 
 // the launches of fix contact/tri-penalty/kk in the 2D cut with thermal tool particles: per
 // ordinary step the contact reduction and, with the tool beside the workpiece (xstart 0.6), the
-// tool particles' heat gather, which fix sph/jc-thermal/kk's corrector kernel applies (no kernel
-// of the contact fix's own; with SPHCUT_GATHER_FOLD=0 one a step: the same heat into the tool
-// particles and the budget); none while the tool is away (xstart 3, the first 100 steps).  The
+// tool particles' heat gather, which fix sph/jc-thermal/kk's corrector kernel applies (that of the
+// step, or the next step's first-half kernel where the corrector joins it: no kernel of the
+// contact fix's own; with SPHCUT_GATHER_FOLD=0 one a step: the same heat into the tool particles
+// and the budget); none while the tool is away (xstart 3, the first 100 steps).  The
 // cross neighbours they walk are built at each setup and once per build of the neighbour lists
 // in the steps (ncalls counts these, not the setup's); the accumulators that an output step's
 // fetch read are zeroed by the next contact reduction, not by a fill (peratom_every 10)
@@ -948,8 +953,12 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   double sums[2][3];    // dt, the plastic work, the Dirichlet heat
   for (const int staged : {1, 0}) {
     const auto l = counted_cut("0.6", steps, "SPHCUT_STAGE_ROWS", staged ? "1" : "0");
-    EXPECT_EQ(launches["sphcut:sph:initial_integrate_staged"], staged ? steps : 0);    // the kernel taken
-    EXPECT_EQ(launches["sphcut:sph:initial_integrate"], staged ? 0 : steps);
+    // the kernel taken (alone or with the step before's corrector)
+    EXPECT_EQ(launches["sphcut:sph:initial_integrate_staged"] + launches["sphcut:sph:correct_then_first_half_staged"],
+              staged ? steps : 0);
+    EXPECT_EQ(launches["sphcut:sph:initial_integrate"] + launches["sphcut:sph:correct_then_first_half"],
+              staged ? 0 : steps);
+    EXPECT_GT(launches[staged ? "sphcut:sph:correct_then_first_half_staged" : "sphcut:sph:correct_then_first_half"], 0);
     end[staged] = cut_end(*l);
     snap[staged] = take(*l);
     sums[staged][0] = l->equal("f_sph[1]");
@@ -982,6 +991,133 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   unsetenv("SPHCUT_STAGE_ROWS");
 }
 
+namespace {
+// the heated block (heated_block) with the adaptive step recomputed every dtevery steps and thermo
+// output every 100 (without any, fix sph/jc-thermal's per-atom values are current every step)
+std::vector<std::string> heated_block_every(int nsteps, int dtevery)
+{
+  auto c = heated_block(nsteps);
+  for (auto &line : c) {
+    if (line.rfind("fix sph ", 0) == 0) line += " dtevery " + std::to_string(dtevery);
+    if (line == "thermo 0") line = "thermo 100";
+  }
+  return c;
+}
+
+// fix external's callback: no force (its array is not zeroed by LAMMPS), and LAMMPS' timeout
+// forced at the step given (the run ends after it)
+LAMMPS_NS::bigint timeout_step = -1;
+void force_timeout_at(void *ptr, LAMMPS_NS::bigint step, int nlocal, LAMMPS_NS::tagint *, double **, double **fext)
+{
+  for (int i = 0; i < nlocal; i++)
+    for (int d = 0; d < 3; d++) fext[i][d] = 0.0;
+  if (step == timeout_step) static_cast<LAMMPS_NS::LAMMPS *>(ptr)->timer->force_timeout();
+}
+
+// the heated block with the corrector fused (SPHCUT_FUSE_STEPS=fuse) after nsteps steps, or (stop
+// > 0) a run of nsteps that a timeout ends after step stop; more: commands before the run
+Snapshot heated_block_run(int fuse, int nsteps, int stop, double *qdir, const std::vector<std::string> &more = {})
+{
+  setenv("SPHCUT_FUSE_STEPS", fuse ? "1" : "0", 1);
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  l.cmds(heated_block_every(0, 5));
+  l.cmds(more);
+  if (stop > 0) {
+    l.cmd("fix ext all external pf/callback 1 1");
+    auto *fe = static_cast<LAMMPS_NS::FixExternal *>(l.lmp->modify->fix[l.lmp->modify->find_fix("ext")]);
+    fe->set_callback(force_timeout_at, l.lmp);
+    timeout_step = stop;
+  }
+  launches.clear();
+  {
+    CountLaunches count(l.lmp);
+    l.cmd("run " + std::to_string(nsteps));
+  }
+  timeout_step = -1;
+  unsetenv("SPHCUT_FUSE_STEPS");
+  if (stop > 0) EXPECT_EQ(l.lmp->update->ntimestep, stop);    // the timeout ended the run there
+  *qdir = l.equal("f_heat[3]");
+  return take(l);
+}
+}    // namespace
+
+// fix sph/jc-thermal/kk leaves a step's corrector to the next step's first-half kernel
+// (CorrectThenFirstHalf: one launch and one pass over the state rows fewer) where nothing reads v
+// or the state in between: not at a dt step (dtevery), an output step, a step of another fix's
+// end_of_step (here fix print every 10 and fix halt every 100), nor the run's last.  The 2D cut in
+// contact (the heat rules, the pair's rows packed in the first half, the tool-heat gather of the
+// step before), in place and on staged rows, gives the state of the two kernels,
+// and so do the step's sums; a run that a timeout ends after a deferred step finishes its
+// corrector (post_run).  SPHCUT_FUSE_STEPS=0 keeps the two kernels
+TEST(KokkosThermal, CorrectorJoinsTheNextFirstHalf)
+{
+  const int steps = 600;
+  // the steps deferred: neither a multiple of dtevery (4) nor of 10 (fix print; thermo and fix
+  // halt every 100), nor the last
+  int deferred = 0;
+  for (int s = 1; s < steps; s++) deferred += s % 4 != 0 && s % 10 != 0;
+  CutEnd end[3];
+  Snapshot snap[3];
+  double sums[3][2];    // dt, the plastic work
+  for (const int run : {0, 1, 2}) {    // fused in place, fused staged, two kernels
+    if (run == 1) setenv("SPHCUT_STAGE_ROWS", "1", 1);
+    const auto l = counted_cut("0.6", steps, "SPHCUT_FUSE_STEPS", run < 2 ? "1" : "0", {"dtevery index 4"});
+    unsetenv("SPHCUT_STAGE_ROWS");
+    const int fused = launches["sphcut:sph:correct_then_first_half"],
+              staged = launches["sphcut:sph:correct_then_first_half_staged"];
+    std::printf("[ fused    ] %s: %d + %d fused, %d first halves, %d correctors, %d gather kernels of the "
+                "contact fix in %d steps\n", run == 0 ? "in place" : run == 1 ? "staged" : "SPHCUT_FUSE_STEPS=0", fused, staged,
+                launches["sphcut:sph:initial_integrate"] + launches["sphcut:sph:initial_integrate_staged"],
+                launches["sphcut:sph:final_integrate"], launches["sphcut:contact:tool_heat_gather"], steps);
+    EXPECT_EQ(fused, run == 0 ? deferred : 0);
+    EXPECT_EQ(staged, run == 1 ? deferred : 0);
+    const int both = run < 2 ? deferred : 0;
+    EXPECT_EQ(launches["sphcut:sph:initial_integrate"] + launches["sphcut:sph:initial_integrate_staged"], steps - both);
+    EXPECT_EQ(launches["sphcut:sph:final_integrate"], steps - both);
+    EXPECT_EQ(launches["sphcut:contact:tool_heat_gather"], 0);    // in the integrator's kernels
+    end[run] = cut_end(*l);
+    snap[run] = take(*l);
+    sums[run][0] = l->equal("f_sph[1]");
+    sums[run][1] = l->equal("f_sph[4]");
+    EXPECT_GT(l->equal("f_cut[7]"), 0.0);    // friction heat went into the tool particles
+  }
+  EXPECT_GT(end[2].fc, 20.0);    // in contact
+  EXPECT_GT(sums[2][1], 0.0);
+  for (const int run : {0, 1}) {
+    expect_same_cut_end(end[run], end[2]);
+    expect_same(snap[run], snap[2], run ? "fused staged" : "fused", 1e-13);
+    EXPECT_EQ(sums[run][0], sums[2][0]);
+    EXPECT_NEAR(sums[run][1], sums[2][1], 1e-12 * sums[2][1]);
+  }
+  // the heated block (the held rate and the Dirichlet layer, dtevery 5): 60 steps, and a run of
+  // 500 that a timeout ends after step 37 (deferred) against 37 steps with the two kernels
+  double q[4];
+  const Snapshot a = heated_block_run(1, 60, 0, &q[0]);
+  EXPECT_EQ(launches["sphcut:sph:correct_then_first_half"], 48);    // after steps 1-59 but the multiples of 5
+  const Snapshot b = heated_block_run(0, 60, 0, &q[1]);
+  const Snapshot c = heated_block_run(1, 500, 37, &q[2]);
+  EXPECT_EQ(launches["sphcut:sph:correct_then_first_half"], 29);    // after steps 1-36 but 5 ... 35
+  const Snapshot d = heated_block_run(0, 37, 0, &q[3]);
+  std::printf("[ fused    ] Dirichlet heat of the heated block: %.15g / %.15g J (60 steps), %.15g / %.15g (37)\n",
+              q[0], q[1], q[2], q[3]);
+  expect_same(a, b, "fused block", 1e-13);
+  expect_same(c, d, "fused block ended by a timeout", 1e-13);
+  EXPECT_GT(q[1], 0.0);
+  EXPECT_NEAR(q[0], q[1], 1e-12 * q[1]);
+  EXPECT_NEAR(q[2], q[3], 1e-12 * q[3]);
+  // a fix print every 3 steps of an atom's velocity (read on the host, no fix sph/jc-thermal output
+  // that would finish the corrector itself): its steps keep their corrector too
+  const std::vector<std::string> print = {"variable vz equal vz[100]", "fix pr all print 3 \"${vz}\" screen no"};
+  const Snapshot e = heated_block_run(1, 60, 0, &q[0], print);
+  EXPECT_EQ(launches["sphcut:sph:correct_then_first_half"], 32);    // after steps 1-59 but those of 3 or 5
+  expect_same(e, b, "fused block printed every 3 steps", 1e-13);
+  setenv("SPHCUT_FUSE_STEPS", "2", 1);
+  Lammps l(MPI_COMM_WORLD, KK_FULL);
+  l.cmds(collision("off"));
+  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_FUSE_STEPS=2 is not 0 or 1"));
+  unsetenv("SPHCUT_FUSE_STEPS");
+}
+
 // the reductions over the particles (fix sph/jc-thermal/kk's corrector, fix heat/fmfs/kk's two
 // passes, fix contact/tri-penalty/kk's kernel) on the wide path of sphcut::reduce (one thread per
 // particle, the warps' values joined by atomics, the last to join runs the final: a GPU's default)
@@ -1001,8 +1137,10 @@ TEST(KokkosThermal, WideReductionsMatchKokkos)
     // one kernel a reduction (the last warp runs its final); the accumulator set up once (the
     // corrector's in the first step, the others' in the setup, which is not counted).  The
     // contact kernel of a rank with no particle near the tool (2 ranks) is its final alone
-    EXPECT_EQ(launches["sphcut:sph:final_integrate"], steps);
-    EXPECT_EQ(launches["sphcut:sph:final_integrate:acc_init"], wide);
+    // (the correctors in the next step's first-half kernel but at the dt and print steps)
+    EXPECT_EQ(launches["sphcut:sph:final_integrate"] + launches["sphcut:sph:correct_then_first_half"], steps);
+    EXPECT_EQ(launches["sphcut:sph:final_integrate:acc_init"] + launches["sphcut:sph:correct_then_first_half:acc_init"],
+              wide);
     EXPECT_GT(launches["sphcut:heat:exchange"], steps / 20);    // (every 10 steps)
     EXPECT_GE(launches["sphcut:contact:post_force"] + launches["sphcut:contact:post_force:final"], steps);
     if (!wide) EXPECT_EQ(launches["sphcut:contact:post_force:final"], 0);
