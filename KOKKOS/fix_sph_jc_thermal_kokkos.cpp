@@ -410,6 +410,9 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   clear_f = sphcut::env_switch(lmp, "SPHCUT_FORCE_CLEAR", "Fix sph/jc-thermal/kk", 1) && force_clear_allowed();
   // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1 forces)
   stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1);
+  // on a host backend teams of 2 threads instead of 1 (SPHCUT_STAGE_TEAM=1: the tests of the
+  // staged kernels' team reductions)
+  host_team = sphcut::env_switch(lmp, "SPHCUT_STAGE_TEAM", "Fix sph/jc-thermal/kk", 0) ? 2 : 1;
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix sph/jc-thermal/kk");
   fuse = sphcut::env_switch(lmp, "SPHCUT_FUSE_STEPS", "Fix sph/jc-thermal/kk", 1) && fuse_allowed();
   defer_step = -1;
@@ -651,13 +654,13 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
       const CorrectThenFirstHalfStaged<DeviceType> w{
           sphcut::wide_reducer<DeviceType, 4>("sphcut:sph:final_integrate", k.n, c, d_second_acc)};
       Kokkos::parallel_for("sphcut:sph:correct_then_first_half_staged",
-                           sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1)), w);
+                           sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1), host_team), w);
     } else
       sphcut::reduce<DeviceType, 4>("sphcut:sph:correct_then_first_half", k.n, c, wide, d_second, d_second_acc);
     corrector_done(c.c);
   } else if (staged(k.n))
     Kokkos::parallel_for("sphcut:sph:initial_integrate_staged",
-                         sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1)), k);
+                         sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1), host_team), k);
   else
     Kokkos::parallel_for("sphcut:sph:initial_integrate", sphcut::range<DeviceType>(0, k.n), k);
   k_state.template modify<DeviceType>();

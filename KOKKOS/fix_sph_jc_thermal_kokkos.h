@@ -163,6 +163,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   int clear_f_active = 0;          // this run's setup set the integrator's flag (post_run restores it)
   int saved_force_clear = 0;       // the flag before
   int stage_rows = -1;    // the first-half kernel on staged rows (stage_choice): SPHCUT_STAGE_ROWS, -1 unset
+  int host_team = 1;      // threads a staged team on a host backend (SPHCUT_STAGE_TEAM=1: 2)
   bool staged(int n) const
   {
     return stage_choice(n, ON_HOST, stage_rows) && sphcut::rows_contiguous(k_state.template view<DeviceType>());

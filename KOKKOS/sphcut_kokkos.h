@@ -274,12 +274,14 @@ void reduce(const std::string &name, int n, const Functor &f, bool wide, const R
 // into its scratch with loads of consecutive doubles across its threads, each thread integrates its
 // particle on the scratch row, and the team stores the rows back the same way.  In place, each
 // thread reads and writes its own 504-byte row: a warp's access of one column touches 32 rows
-// 504 bytes apart.  On a host backend one thread a team
+// 504 bytes apart.  On a host backend host_team threads a team (1; 2 in the tests of the team
+// reductions, which a GPU's teams of 32 run)
 constexpr int STAGE_ROWS = 32;
-template <class DeviceType> inline auto stage_policy(int n, int ncol)
+template <class DeviceType> inline auto stage_policy(int n, int ncol, int host_team = 1)
 {
   auto p = Kokkos::Experimental::require(
-      Kokkos::TeamPolicy<DeviceType>((n + STAGE_ROWS - 1) / STAGE_ROWS, on_host_backend<DeviceType>() ? 1 : STAGE_ROWS),
+      Kokkos::TeamPolicy<DeviceType>((n + STAGE_ROWS - 1) / STAGE_ROWS,
+                                     on_host_backend<DeviceType>() ? host_team : STAGE_ROWS),
       Kokkos::Experimental::WorkItemProperty::HintLightWeight);
   p.set_scratch_size(0, Kokkos::PerTeam(STAGE_ROWS * ncol * sizeof(double)));
   return p;

@@ -1056,22 +1056,28 @@ TEST(KokkosThermal, CorrectorJoinsTheNextFirstHalf)
   // halt every 100), nor the last
   int deferred = 0;
   for (int s = 1; s < steps; s++) deferred += s % 4 != 0 && s % 10 != 0;
-  CutEnd end[3];
-  Snapshot snap[3];
-  double sums[3][2];    // dt, the plastic work
-  for (const int run : {0, 1, 2}) {    // fused in place, fused staged, two kernels
-    if (run == 1) setenv("SPHCUT_STAGE_ROWS", "1", 1);
-    const auto l = counted_cut("0.6", steps, "SPHCUT_FUSE_STEPS", run < 2 ? "1" : "0", {"dtevery index 4"});
+  CutEnd end[4];
+  Snapshot snap[4];
+  double sums[4][2];    // dt, the plastic work
+  // fused in place, fused staged (teams of 1 and of 2 threads: their sums joined by the team
+  // reduction, as a GPU's teams of 32), two kernels
+  for (const int run : {0, 1, 3, 2}) {
+    if (run == 1 || run == 3) setenv("SPHCUT_STAGE_ROWS", "1", 1);
+    if (run == 3) setenv("SPHCUT_STAGE_TEAM", "1", 1);
+    const auto l = counted_cut("0.6", steps, "SPHCUT_FUSE_STEPS", run != 2 ? "1" : "0", {"dtevery index 4"});
     unsetenv("SPHCUT_STAGE_ROWS");
+    unsetenv("SPHCUT_STAGE_TEAM");
     const int fused = launches["sphcut:sph:correct_then_first_half"],
               staged = launches["sphcut:sph:correct_then_first_half_staged"];
     std::printf("[ fused    ] %s: %d + %d fused, %d first halves, %d correctors, %d gather kernels of the "
-                "contact fix in %d steps\n", run == 0 ? "in place" : run == 1 ? "staged" : "SPHCUT_FUSE_STEPS=0", fused, staged,
+                "contact fix in %d steps\n",
+                run == 0 ? "in place" : run == 1 ? "staged" : run == 3 ? "staged, teams of 2" : "SPHCUT_FUSE_STEPS=0",
+                fused, staged,
                 launches["sphcut:sph:initial_integrate"] + launches["sphcut:sph:initial_integrate_staged"],
                 launches["sphcut:sph:final_integrate"], launches["sphcut:contact:tool_heat_gather"], steps);
     EXPECT_EQ(fused, run == 0 ? deferred : 0);
-    EXPECT_EQ(staged, run == 1 ? deferred : 0);
-    const int both = run < 2 ? deferred : 0;
+    EXPECT_EQ(staged, run == 1 || run == 3 ? deferred : 0);
+    const int both = run != 2 ? deferred : 0;
     EXPECT_EQ(launches["sphcut:sph:initial_integrate"] + launches["sphcut:sph:initial_integrate_staged"], steps - both);
     EXPECT_EQ(launches["sphcut:sph:final_integrate"], steps - both);
     EXPECT_EQ(launches["sphcut:contact:tool_heat_gather"], 0);    // in the integrator's kernels
@@ -1083,9 +1089,9 @@ TEST(KokkosThermal, CorrectorJoinsTheNextFirstHalf)
   }
   EXPECT_GT(end[2].fc, 20.0);    // in contact
   EXPECT_GT(sums[2][1], 0.0);
-  for (const int run : {0, 1}) {
+  for (const int run : {0, 1, 3}) {
     expect_same_cut_end(end[run], end[2]);
-    expect_same(snap[run], snap[2], run ? "fused staged" : "fused", 1e-13);
+    expect_same(snap[run], snap[2], run == 0 ? "fused" : run == 1 ? "fused staged" : "fused staged, teams of 2", 1e-13);
     EXPECT_EQ(sums[run][0], sums[2][0]);
     EXPECT_NEAR(sums[run][1], sums[2][1], 1e-12 * sums[2][1]);
   }
@@ -1095,6 +1101,15 @@ TEST(KokkosThermal, CorrectorJoinsTheNextFirstHalf)
   const Snapshot a = heated_block_run(1, 60, 0, &q[0]);
   EXPECT_EQ(launches["sphcut:sph:correct_then_first_half"], 48);    // after steps 1-59 but the multiples of 5
   const Snapshot b = heated_block_run(0, 60, 0, &q[1]);
+  double qs = 0.0;    // staged, teams of 2 threads
+  setenv("SPHCUT_STAGE_ROWS", "1", 1);
+  setenv("SPHCUT_STAGE_TEAM", "1", 1);
+  const Snapshot s2 = heated_block_run(1, 60, 0, &qs);
+  unsetenv("SPHCUT_STAGE_ROWS");
+  unsetenv("SPHCUT_STAGE_TEAM");
+  EXPECT_EQ(launches["sphcut:sph:correct_then_first_half_staged"], 48);
+  expect_same(s2, b, "fused block staged, teams of 2", 1e-13);
+  EXPECT_NEAR(qs, q[1], 1e-12 * q[1]);
   const Snapshot c = heated_block_run(1, 500, 37, &q[2]);
   EXPECT_EQ(launches["sphcut:sph:correct_then_first_half"], 29);    // after steps 1-36 but 5 ... 35
   const Snapshot d = heated_block_run(0, 37, 0, &q[3]);
