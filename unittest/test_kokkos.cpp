@@ -1089,9 +1089,11 @@ TEST(KokkosThermal, CorrectorJoinsTheNextFirstHalf)
   }
   EXPECT_GT(end[2].fc, 20.0);    // in contact
   EXPECT_GT(sums[2][1], 0.0);
+  // (to round-off: on 2 threads two runs of the cut may differ by about 2e-12 in the state, the
+  // contact's sums being atomics; the heated block below has none, and is compared to 1e-13)
   for (const int run : {0, 1, 3}) {
     expect_same_cut_end(end[run], end[2]);
-    expect_same(snap[run], snap[2], run == 0 ? "fused" : run == 1 ? "fused staged" : "fused staged, teams of 2", 1e-13);
+    expect_same(snap[run], snap[2], run == 0 ? "fused" : run == 1 ? "fused staged" : "fused staged, teams of 2", 1e-11);
     EXPECT_EQ(sums[run][0], sums[2][0]);
     EXPECT_NEAR(sums[run][1], sums[2][1], 1e-12 * sums[2][1]);
   }
