@@ -42,14 +42,19 @@ template <class DeviceType, class Values> struct RegionReduce {
     a.v = mode == ComputeReduce::MINN ? 1.0e20 : (mode == ComputeReduce::MAXX ? -1.0e20 : 0.0);
     a.n = 0.0;
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type &a, const volatile value_type &b) const
+  // q into the running value v by the mode: the minimum, the maximum or the sum
+  KOKKOS_INLINE_FUNCTION void fold(volatile double &v, const double q) const
   {
     if (mode == ComputeReduce::MINN) {
-      if (b.v < a.v) a.v = b.v;
+      if (q < v) v = q;
     } else if (mode == ComputeReduce::MAXX) {
-      if (b.v > a.v) a.v = b.v;
+      if (q > v) v = q;
     } else
-      a.v += b.v;
+      v += q;
+  }
+  KOKKOS_INLINE_FUNCTION void join(volatile value_type &a, const volatile value_type &b) const
+  {
+    fold(a.v, b.v);
     a.n += b.n;
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type &a) const
@@ -61,12 +66,7 @@ template <class DeviceType, class Values> struct RegionReduce {
     }
     double q = vals(i, col);
     if (mode == ComputeReduce::SUMSQ || mode == ComputeReduce::AVESQ) q *= q;
-    if (mode == ComputeReduce::MINN) {
-      if (q < a.v) a.v = q;
-    } else if (mode == ComputeReduce::MAXX) {
-      if (q > a.v) a.v = q;
-    } else
-      a.v += q;
+    fold(a.v, q);
     a.n += 1.0;
   }
 };

@@ -497,7 +497,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup_pre_fo
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::setup(int vflag)
 {
   settle_corrector();    // (none is left pending across runs: post_run)
-  defer_step = -1;
   atomKK->sync(execution_space, datamask_read);
   FixSPHJCThermal::setup(vflag);    // timers, first stable dt (stable_dt below, on the device)
   outputs_step = -1;
