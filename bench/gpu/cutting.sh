@@ -7,6 +7,15 @@
 #            quick cut (11 across) and the 3D cut with free sides (6 across, 3 layers); <= 1e-8; the
 #            same with the pair's hourglass 0.1; CHECK_VARS more -var settings (e.g. "-var precision
 #            mixed"), CHECK_TOL the tolerance (default 1e-8)
+#   sums     the corrector joined to the next first half on the GPU: check's cases under /kk with it
+#            on staged rows (SPHCUT_STAGE_ROWS=1), two kernels staged and in place
+#            (SPHCUT_FUSE_STEPS=0) and the default, against the CPU styles: per-atom state and the
+#            energy sums formed on the device (plastic work, Dirichlet heat, ...)
+#   ncu2d    Nsight Compute on the 2D cut at PROF_NY (41) across in contact: one launch (after
+#            NCU_SKIP, 200, of its kind) of each kernel of NCU_KERNELS (;-separated regular
+#            expressions of the demangled kernel name; default the contact kernel, the joined
+#            corrector and first half, the pair's team pass): duration, registers, occupancy, the
+#            warps' stall reasons (sampled) and the SASS instructions with the most stall samples
 #   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
 #   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces; in
 #            segments with CUT_END (restart files, continued by the next call)
@@ -80,6 +89,7 @@ snapshot() {
   local ex=$1 out=$2; shift 2
   cat > $W/snap.in <<EOI
 include $ex
+${SNAP_PRINT:-}
 dump_sph snap all \${printevery} $out id x y z vx vy vz density pressure vonmises plastic_strain temperature
 dump_modify snap sort id
 run 0
@@ -126,6 +136,105 @@ EOP
   say "  forces.dat, last line, CPU: $(tail -1 forces.cpu2)"
   say "                          GPU: $(tail -1 forces.gpu2)"
   grep -B1 -A2 "^ *Step" log.cpu2 log.gpu2 | tail -6 >> "$SUM"
+  cd "$ROOT"
+}
+
+# the joined corrector's sums on the GPU: check's 2D and 3D cases on the CPU styles and under /kk
+# with the corrector in the next step's first-half kernel on staged rows (team sums, one join per
+# team: what a GPU runs from 500,000 particles), with two kernels staged and in place, and the
+# default (in place, joined): each per-atom state against the CPU's (compare.py, CHECK_TOL), and
+# the energy sums the corrector forms on the device (internal, kinetic, plastic work; the heat
+# fix's convection, Dirichlet and thermal energy) against the CPU's, relative
+sums() {
+  cd $W
+  local v2="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0"
+  local v3="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100"
+  local tol=${CHECK_TOL:-1e-8} d ex v k set sets
+  sets=("SPHCUT_STAGE_ROWS=1" "SPHCUT_STAGE_ROWS=1 SPHCUT_FUSE_STEPS=0" "SPHCUT_STAGE_ROWS=0 SPHCUT_FUSE_STEPS=0" "ENVAB_NONE=1")
+  local SNAP_PRINT='print "SUMS $(f_sph[2]:%.17g) $(f_sph[3]:%.17g) $(f_sph[4]:%.17g) $(f_heat[1]:%.17g) $(f_heat[3]:%.17g) $(f_heat[5]:%.17g)"'
+  export SNAP_PRINT
+  for d in 2 3; do
+    ex=$EX2 v=$v2; [ $d = 3 ] && { ex=$EX3; v=$v3; }
+    snapshot "$ex" scpu$d.dump $v || continue
+    for k in "${!sets[@]}"; do
+      set=${sets[$k]}
+      (export $set; snapshot "$ex" sgpu$d$k.dump $GPUK $v) || continue
+      say "sums ${d}D [$set] against the CPU: $(python3 $ROOT/bench/gpu/compare.py scpu$d.dump sgpu$d$k.dump $tol | tail -1)"
+      say "  sums (internal, kinetic, plastic work, convection, Dirichlet, thermal energy), relative: $(python3 - log.scpu$d log.sgpu$d$k $tol <<'EOP'
+import sys
+a, b = ([float(x) for x in next(l for l in open(f) if l.startswith("SUMS")).split()[1:]] for f in sys.argv[1:3])
+d = [abs(y - x) / abs(x) if x else abs(y) for x, y in zip(a, b)]
+print(" ".join(f"{v:.2e}" for v in d), "| CPU", " ".join(f"{x:.6g}" for x in a),
+      "PASS" if max(d) <= float(sys.argv[3]) else "FAIL")
+EOP
+)"
+    done
+  done
+  unset SNAP_PRINT
+  cd "$ROOT"
+}
+
+ncu2d() {
+  command -v ncu > /dev/null || { say "ncu2d: no ncu"; return 0; }
+  cd $W
+  local ks k n=0
+  IFS=';' read -ra ks <<< "${NCU_KERNELS:-ContactWide;CorrectThenFirstHalf;neigh_pass_team}"
+  for k in "${ks[@]}"; do
+    n=$((n + 1))
+    rm -f ncu$n.ncu-rep
+    timeout ${NCU_TIMEOUT:-150} ncu --kernel-name-base demangled --kernel-name regex:"$k" --launch-skip ${NCU_SKIP:-200} \
+      --launch-count 1 --set full -o ncu$n "$BIN" $GPUK $NEV -in "$EX2" -var ny ${PROF_NY:-41} -var xstart 1 \
+      -var steps $(( ${NCU_SKIP:-200} + 60 )) -var thermoevery 1000 -var printevery 100 -var dumpevery 0 \
+      -log log.ncu$n > screen.ncu$n 2>&1 || tail -3 screen.ncu$n >> "$SUM"
+    [ -f ncu$n.ncu-rep ] || { say "ncu2d [$k]: no report"; continue; }
+    say "ncu2d [$k] at ${PROF_NY:-41} across:"
+    ncu -i ncu$n.ncu-rep --page details 2>/dev/null | grep -E "^  [a-zA-Z_].*\(|  Duration|Registers Per Thread|Block Size|Grid Size|Achieved Occupancy|Theoretical Occupancy|Warp Cycles Per Issued|Executed Ipc Active" \
+      | head -12 | sed 's/^/  /' >> "$SUM"
+    ncu -i ncu$n.ncu-rep --page raw --csv 2>/dev/null > raw$n.csv
+    ncu -i ncu$n.ncu-rep --page source --csv --print-source sass 2>/dev/null > src$n.csv
+    python3 - raw$n.csv src$n.csv >> "$SUM" <<'EOP'
+import csv, sys, re
+# the stall reasons: the sampled warps per reason (smsp__pcsamp_warps_issue_stalled_*)
+try:
+    rows = list(csv.reader(open(sys.argv[1])))
+    head, vals = rows[0], rows[-1]
+    st = []
+    for h, v in zip(head, vals):
+        m = re.match(r"smsp__pcsamp_warps_issue_stalled_(\w+)$", h)
+        if m and not m.group(1).endswith("not_issued"):
+            try: st.append((float(v.replace(",", "")), m.group(1)))
+            except ValueError: pass
+    tot = sum(v for v, _ in st) or 1.0
+    print("    stall samples: " + ", ".join(f"{n} {100 * v / tot:.0f} %" for v, n in sorted(st, reverse=True)[:8]))
+except Exception as e:
+    print("    stall reasons: not read (", e, ")")
+# the instructions with the most samples
+try:
+    rows = list(csv.reader(open(sys.argv[2])))
+    k = next(i for i, r in enumerate(rows) if any("Source" == c.strip() for c in r))
+    head = [c.strip() for c in rows[k]]
+    src = head.index("Source")
+    smp = next(i for i, c in enumerate(head) if c.startswith("Warp Stall Sampling (All"))
+    data = []
+    for r in rows[k + 1:]:
+        if len(r) > max(src, smp):
+            try: data.append((float(r[smp].replace(",", "") or 0), r[src].strip()))
+            except ValueError: pass
+    tot = sum(v for v, _ in data) or 1.0
+    ops = {}
+    for v, t in data:
+        op = t.split()[0] if t else "?"
+        if op.startswith("@"): op = t.split()[1] if len(t.split()) > 1 else op
+        op = op.split(".")[0]
+        ops[op] = ops.get(op, 0.0) + v
+    print(f"    {len(data)} SASS instructions; samples by opcode: " + ", ".join(f"{o} {100 * v / tot:.0f} %" for o, v in sorted(ops.items(), key=lambda x: -x[1])[:10]))
+    for v, t in sorted(data, reverse=True)[:12]:
+        print(f"      {100 * v / tot:5.1f} %  {t[:90]}")
+except Exception as e:
+    print("    source page: not read (", e, ")")
+EOP
+  done
+  cp src*.csv raw*.csv "$OUT/" 2>/dev/null
   cd "$ROOT"
 }
 
