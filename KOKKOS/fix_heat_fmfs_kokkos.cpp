@@ -140,6 +140,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   FixHeatFMFS::init();
   sphcut::kokkos_full_list<DeviceType>(neighbor);
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix heat/fmfs/kk");
+  eager = sphcut::env_switch(lmp, "SPHCUT_HEAT_EAGER", "Fix heat/fmfs/kk", sphcut::on_host_backend<DeviceType>() ? 0 : 1);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   surfkk = nullptr;
@@ -318,15 +319,27 @@ template <class DeviceType> struct LAMMPS_NS::HeatFMFSViews {
 namespace {
 
 // the listed neighbours of particle i as the sphcut_thermal.h particle functions read them, from
-// the heat rows: the pair's support and kernel computed on the fly (one walk)
-template <class DeviceType> struct DeviceNeighbours {
+// the heat rows: the pair's support and kernel computed on the fly (one walk).  EAGER (the
+// conservative form's passes on a GPU, FixHeatFMFSKokkos::eager): the walk takes the entries in
+// order (pair(0), pair(1), ...), each entry's index is loaded one entry ahead, and pair() loads
+// what the pass then reads of j before the support test: its whole heat row (EAGER >= 1) and its
+// scheme flag (EAGER == 2, the exchange), so that these loads wait for the index only, not for the
+// test and then for each other; the FMFS weights follow the test, for the pairs within the support
+// only (loaded before it as well, the exchange was slower: bench/gpu/RESULTS.md).  The values and
+// the sums are the same.  EAGER == 0 loads each where it is read.
+template <class DeviceType, int DIM = 3, int EAGER = 0> struct DeviceNeighbours {
   static constexpr bool TWO_WALKS = false;
   const HeatFMFSViews<DeviceType> &d;
   int i, itn;    // itn: the row of i's type in the type-pair tables
   double xi[3];
+  // EAGER: the last pair's j as pair() loaded it, the next entry's index
+  mutable double cvol, ctemp;
+  mutable bool cflag;
+  mutable int jnext;
   KOKKOS_INLINE_FUNCTION DeviceNeighbours(const HeatFMFSViews<DeviceType> &d_, int i_) :
       d(d_), i(i_), itn(d_.av.type(i_) * d_.nt), xi{d_.hr(i_, HR_X), d_.hr(i_, HR_X + 1), d_.hr(i_, HR_X + 2)}
   {
+    if (EAGER) jnext = d.av.numneigh(i) > 0 ? d.av.neighbors(i, 0) & NEIGHMASK : 0;
   }
   KOKKOS_INLINE_FUNCTION int size() const { return d.av.numneigh(i); }
   KOKKOS_INLINE_FUNCTION int type(int j) const { return (int) d.hr(j, HR_TYPE); }
@@ -347,16 +360,35 @@ template <class DeviceType> struct DeviceNeighbours {
   KOKKOS_INLINE_FUNCTION double h(int j) const { return d.hij(itn + type(j)); }
   KOKKOS_INLINE_FUNCTION bool pair(int k, sphcut::HeatPair &p) const
   {
-    p.j = d.av.neighbors(i, k) & NEIGHMASK;
+    if (EAGER) {
+      p.j = jnext;
+      if (k + 1 < d.av.numneigh(i)) jnext = d.av.neighbors(i, k + 1) & NEIGHMASK;
+    } else {
+      p.j = d.av.neighbors(i, k) & NEIGHMASK;
+    }
     double xj[3], r2;
     const int tj = pos_type(p.j, xj);
+    if (EAGER) {
+      sphcut::load2(&d.hr(p.j, HR_VOL), cvol, ctemp);
+      if (EAGER == 2) {
+        double pad, flag;
+        sphcut::load2(&d.fw(p.j, FW0 - 1), pad, flag);
+        cflag = flag > 0.0;
+      }
+    }
     if (tj == 0) return false;
     p.tp = &d.tp(itn + tj);
     return sphcut::thermal_support(*p.tp, d.kern, xi, xj, p.dx, r2, p.wfac, p.ir2);
   }
-  KOKKOS_INLINE_FUNCTION double volume(int j) const { return d.hr(j, HR_VOL); }
-  KOKKOS_INLINE_FUNCTION double temp(int j) const { return d.hr(j, HR_T); }
-  KOKKOS_INLINE_FUNCTION const double *weights(int j) const { return &d.fw(j, FW0); }
+  KOKKOS_INLINE_FUNCTION double volume(int j) const { return EAGER ? cvol : d.hr(j, HR_VOL); }
+  KOKKOS_INLINE_FUNCTION double temp(int j) const { return EAGER ? ctemp : d.hr(j, HR_T); }
+  template <int D> KOKKOS_INLINE_FUNCTION bool weights(int j, double *w) const
+  {
+    static_assert(D == DIM, "the weights of another dimension");
+    if (EAGER < 2) return sphcut::row_weights<D>(&d.fw(j, FW0), w);
+    if (cflag) sphcut::load_weights<D>(&d.fw(j, FW0 + 1), w);
+    return cflag;
+  }
   KOKKOS_INLINE_FUNCTION double kappa(int j) const { return d.mat(type(j)).kappa; }
 };
 }    // namespace
@@ -455,17 +487,23 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
     surf = surfkk->k_out.template view<DeviceType>();
   }
   const HeatFMFSViews<DeviceType> d = heat_views();
-  scheme_pass_kk<DIM>(d, surf);
+  if (eager)
+    scheme_pass_kk<DIM, 1>(d, surf);
+  else
+    scheme_pass_kk<DIM, 0>(d, surf);
   sphcut::forward_comm(comm, this);
   k_fwts.template sync<DeviceType>();
-  exchange_pass_kk<DIM>(d, surf);
+  if (eager)
+    exchange_pass_kk<DIM, 2>(d, surf);
+  else
+    exchange_pass_kk<DIM, 0>(d, surf);
 }
 
 /* 1. one thread per particle walks its neighbours once for the surface indicator (fused: into
    the compute's values) and the FMFS moments (sphcut::heat_scheme), the same sums in the same
    order as the CPU fix: the scheme of each particle and its FMFS pair weights */
 template <class DeviceType>
-template <int DIM>
+template <int DIM, int EAGER>
 void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceType> &d,
                                                    const typename AT::t_double_2d &surf)
 {
@@ -504,7 +542,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
         const int cand = conducts && fmfs && mi.kappa > 0.0 && !was_surf;
         sphcut::HeatSurface sv;
         double wts[NW - 1];
-        const int s = sphcut::heat_scheme<DIM>(DeviceNeighbours<DeviceType>(d, i), conducts, cand, fuse, thr, flam, sv, wts);
+        const int s = sphcut::heat_scheme<DIM>(DeviceNeighbours<DeviceType, DIM, EAGER>(d, i), conducts, cand, fuse, thr, flam, sv, wts);
         if (fuse) {
           surf(i, CS::LAMBDA) = sv.lambda;
           surf(i, CS::FLAG) = sv.flag;
@@ -530,7 +568,7 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
 /* 2. the pairwise exchange (sphcut::heat_exchange, each pair from both sides: nothing to
    scatter) and the surface losses into the held rate */
 template <class DeviceType>
-template <int DIM>
+template <int DIM, int EAGER>
 void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceType> &d,
                                                      const typename AT::t_double_2d &surf)
 {
@@ -559,7 +597,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         if (mi.cp <= 0.0) return;
         const double Ti = d.av.st(i, F::TEMP_F);
         // (NoAdd: V_i is not needed)
-        const double rate = sphcut::heat_exchange<DIM>(DeviceNeighbours<DeviceType>(d, i), mi.kappa, Ti, 0.0, &fw(i, FW0),
+        const double rate = sphcut::heat_exchange<DIM>(DeviceNeighbours<DeviceType, DIM, EAGER>(d, i), mi.kappa, Ti, 0.0, &fw(i, FW0),
                                                        sphcut::NoAdd{});
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
         d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),

@@ -71,8 +71,10 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   HeatFMFSViews<DeviceType> heat_views();    // what the heat kernels read
   template <int DIM> void conduction_kk();
   template <int DIM> void conduction_conservative_kk();
-  template <int DIM> void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
-  template <int DIM> void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
+  template <int DIM, int EAGER>
+  void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
+  template <int DIM, int EAGER>
+  void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
   void add_held();    // setup only (during the run fix sph/jc-thermal/kk's corrector adds HELD)
   void set_dirichlet();    // setup only (during the run fix sph/jc-thermal/kk's predictor sets TEMP_F)
   // the heat the Dirichlet groups took, summed on the device by fix sph/jc-thermal/kk's corrector
@@ -93,6 +95,9 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   Kokkos::View<double *, typename DeviceType::memory_space> d_wide_acc;    // their accumulator on the wide path
                                                                           // (shared: their inits are all zero)
   bool wide = false;    // the reductions on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
+  // the conservative passes load a neighbour's whole row before its support test (DeviceNeighbours'
+  // EAGER): on a GPU by default, SPHCUT_HEAT_EAGER (0 or 1) overrides; init
+  bool eager = false;
   double loss_weight = 0.0;     // the time the current rates have acted for since the device's last sum
   double replaced_weight = 0.0;    // the weight the rates an evaluation replaces still take (its final)
   bigint count_base[3] = {0, 0, 0};    // n_fmfs, n_brookshaw, n_fallback at the last push

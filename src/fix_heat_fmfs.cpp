@@ -470,7 +470,7 @@ struct GatheredSupport {
   }
   double volume(int jj) const { return prow[5 * jj + 3]; }
   double temp(int jj) const { return prow[5 * jj + 4]; }
-  const double *weights(int jj) const { return fwts[jj]; }
+  template <int DIM> bool weights(int jj, double *w) const { return sphcut::row_weights<DIM>(fwts[jj], w); }
   double kappa(int jj) const { return mat[type[jj]].kappa; }
 };
 }    // namespace

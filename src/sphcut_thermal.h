@@ -923,7 +923,8 @@ SPHCUT_LOOP_INLINE int conduction_particle(const Nb &nb, int kernel, const doubl
      double volume(int j)          m/rho (predicted density)
    and, for the exchange,
      double temp(int j)            predicted temperature
-     const double *weights(int j)  its scheme flag (> 0: FMFS) and FMFS weights (fmfs_weights)
+     bool weights<DIM>(int j, double *w)  its scheme flag (true: FMFS) and, where set, its
+                                   DIM*DIM + DIM FMFS weights (fmfs_weights) into w
      double kappa(int j)           its conductivity
    A view whose pairs are cheap to visit twice (gathered beforehand: the CPU fix) sets
    static constexpr bool TWO_WALKS = true: the FMFS moments are then summed in a second walk,
@@ -1023,27 +1024,33 @@ template <int DIM> SPHCUT_INLINE void load_weights(const double *w, double *out)
   for (int k = 0; k < DIM * DIM + DIM; k += 2) load2(w + k, out[k], out[k + 1]);
 }
 
+// the weights<DIM> of a view whose particle rows hold the scheme flag and then the weights
+// (16-byte aligned, as load_weights reads them): the flag, and the weights where it is set
+template <int DIM> SPHCUT_INLINE bool row_weights(const double *row, double *w)
+{
+  if (!(row[0] > 0.0)) return false;
+  load_weights<DIM>(row + 1, w);
+  return true;
+}
+
 /* second pass, one particle i (conductivity ki, predicted temperature Ti, volume Vi, scheme
-   flag and FMFS weights wi as weights(i) of the view; weights(j) + 1 16-byte aligned, as
-   load_weights reads them): the pairwise exchange with the
+   flag and FMFS weights wi as a row of row_weights): the pairwise exchange with the
    conductance c_ij = wfac conductance_pair (the mean of the two sides, Brookshaw's where that
    is anti-diffusive).  Returns i's rho cp dT/dt from these pairs, sum_j V_j c_ij (T_j - T_i);
    what each pair gives j, -V_i c_ij (T_j - T_i), goes to add(j, value).                      */
 template <int DIM, class Nb, class Add>
 SPHCUT_LOOP_INLINE double heat_exchange(const Nb &nb, double ki, double Ti, double Vi, const double *wi, Add &&add)
 {
-  // i's weights once, in registers; j's in 16-byte pairs
+  // i's weights once, in registers; j's as the view gives them (arrays, not pointers: a GPU
+  // keeps them in registers)
   double fi[DIM * DIM + DIM], fj[DIM * DIM + DIM];
-  const bool wfi = wi[0] > 0.0;
-  if (wfi) load_weights<DIM>(wi + 1, fi);
+  const bool wfi = row_weights<DIM>(wi, fi);
   double ri = 0.0;
   const int n = nb.size();
   for (int k = 0; k < n; k++) {
     HeatPair p;
     if (!nb.pair(k, p)) continue;
-    const double *wj = nb.weights(p.j);
-    const bool wfj = wj[0] > 0.0;
-    if (wfj) load_weights<DIM>(wj + 1, fj);
+    const bool wfj = nb.template weights<DIM>(p.j, fj);
     double s_ij, s_ji;
     exchange_sides<DIM>(*p.tp, p.dx, p.ir2, wfi, fi, ki, wfj, fj, wfj ? nb.kappa(p.j) : 0.0, s_ij, s_ji);
     const double c = p.wfac * conductance_pair(s_ij, s_ji, p.tp->brook), dT = nb.temp(p.j) - Ti;

@@ -644,28 +644,50 @@ TEST(KokkosThermal, Cut3DFreeSidesMatchesCpu)
 // the options the cuts do not use: the per-particle (non-conservative) form every step, a
 // material interface (FMFS -> Brookshaw), radiation and convection on the surface, a Dirichlet
 // group, scheme brookshaw; a hot block on a cooler substrate of another conductivity, 300 steps
+namespace {
+// two steel blocks of different conductivity (40 and 15 W/mK), the upper one at 900 K, touching:
+// fix heat/fmfs with opts, its surface losses and a Dirichlet layer at the bottom, 300 steps; the
+// state, and the heat fix's vector into e (6 values)
+Snapshot two_material_block(const std::vector<std::string> &args, const std::string &opts, double *e)
+{
+  const bool kk = !args.empty();
+  Lammps l(MPI_COMM_WORLD, args);
+  l.cmds({"units si", "dimension 3", "boundary f f f", std::string("newton ") + (kk ? "off" : "on"),
+          "atom_style atomic", "atom_modify map array", "lattice sc 2e-4",
+          "region box block -2 10 -2 10 -2 10", "create_box 2 box", "region a block -0.01 7.01 -0.01 7.01 -0.01 3.01",
+          "region b block -0.01 7.01 -0.01 7.01 3.99 6.01", "create_atoms 1 region a", "create_atoms 2 region b",
+          "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
+          "pair_style sph/jc-thermal",
+          "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
+          "pair_coeff 2 2 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 15",
+          "variable t0 atom 300+600*(type==2)", "fix sph all sph/jc-thermal temp v_t0 cfl 0.3",
+          "compute surf all surface/lambda",
+          "fix heat all heat/fmfs surface surf convection 1e5 300 radiation 0.8 300 dirichlet bot 300 " + opts,
+          "thermo 0", "run 300"});
+  for (int c = 0; c < 6; c++) e[c] = l.equal("f_heat[" + std::to_string(c + 1) + "]");
+  return take(l);
+}
+
+// the largest difference of the temperature rise (T - 300 K) of two states, relative to the
+// largest rise
+double rise_diff(const Snapshot &a, const Snapshot &b)
+{
+  using F = LAMMPS_NS::FixSPHJCThermal;
+  double scale = 0.0, diff = 0.0;
+  for (size_t i = 0; i < a.state.size() / F::NOUT; i++) {
+    scale = std::max(scale, fabs(a.state[i * F::NOUT + F::TEMP] - 300.0));
+    diff = std::max(diff, fabs(a.state[i * F::NOUT + F::TEMP] - b.state[i * F::NOUT + F::TEMP]));
+  }
+  return diff / scale;
+}
+}    // namespace
+
 TEST(KokkosThermal, HeatOptionsMatchCpu)
 {
   for (const std::string opts : {"conservative no", "scheme brookshaw", "every 3"}) {
     Snapshot s[2];
     double e[2][6];
-    for (int k = 0; k < 2; k++) {
-      Lammps l(MPI_COMM_WORLD, k ? KK_FULL : std::vector<std::string>{});
-      l.cmds({"units si", "dimension 3", "boundary f f f", std::string("newton ") + (k ? "off" : "on"),
-              "atom_style atomic", "atom_modify map array", "lattice sc 2e-4",
-              "region box block -2 10 -2 10 -2 10", "create_box 2 box", "region a block -0.01 7.01 -0.01 7.01 -0.01 3.01",
-              "region b block -0.01 7.01 -0.01 7.01 3.99 6.01", "create_atoms 1 region a", "create_atoms 2 region b",
-              "mass * $(7800*2e-4*2e-4*2e-4)", "region bot block INF INF INF INF INF 0.5", "group bot region bot",
-              "pair_style sph/jc-thermal",
-              "pair_coeff 1 1 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 40",
-              "pair_coeff 2 2 rho0 7800 E 200e9 nu 0.3 hdx 1.3 cp 477 k 15",
-              "variable t0 atom 300+600*(type==2)", "fix sph all sph/jc-thermal temp v_t0 cfl 0.3",
-              "compute surf all surface/lambda",
-              "fix heat all heat/fmfs surface surf convection 1e5 300 radiation 0.8 300 dirichlet bot 300 " + opts,
-              "thermo 0", "run 300"});
-      s[k] = take(l);
-      for (int c = 0; c < 6; c++) e[k][c] = l.equal("f_heat[" + std::to_string(c + 1) + "]");
-    }
+    for (int k = 0; k < 2; k++) s[k] = two_material_block(k ? KK_FULL : std::vector<std::string>{}, opts, e[k]);
     expect_same(s[0], s[1], opts.c_str());
     const double dh = vector_diff(std::vector<double>(e[0], e[0] + 6), std::vector<double>(e[1], e[1] + 6));
     std::printf("[ %-8s ] heat vector %.3e (convection %.4g J, radiation %.4g J, Dirichlet %.4g J)\n",
@@ -814,6 +836,55 @@ const int *contact_near(Lammps &l, const char *id)
   return k < 0 ? nullptr : static_cast<const int *>(l.lmp->modify->fix[k]->extract("near", dim));
 }
 }    // namespace
+
+// the conservative form's passes with each neighbour's heat row (and in the exchange its scheme
+// flag; its FMFS weights after the test) loaded before its support test (SPHCUT_HEAT_EAGER=1, the
+// default on a GPU) against the loads where they are read (0, the default on host threads): the
+// same values in the same sums.  The two-material block (FMFS inside each block, Brookshaw across the interface
+// and at the surface) to the bit, and the 2D cut in contact (the contact's atomic sums: 1e-10);
+// anything but 0 or 1 is refused by name
+TEST(KokkosThermal, HeatRowsLoadedEagerlyMatch)
+{
+  double e[2][6];
+  Snapshot s[2];
+  for (int k = 0; k < 2; k++) {
+    setenv("SPHCUT_HEAT_EAGER", k ? "0" : "1", 1);
+    s[k] = two_material_block(KK_FULL, "", e[k]);
+    unsetenv("SPHCUT_HEAT_EAGER");
+  }
+  std::printf("[ eager    ] block: rise %.3e, heat vector %.3e (FMFS fraction %.3f)\n", rise_diff(s[0], s[1]),
+              vector_diff(std::vector<double>(e[0], e[0] + 6), std::vector<double>(e[1], e[1] + 6)), e[0][5]);
+  expect_same(s[0], s[1], "eager block", 1e-15);
+  EXPECT_EQ(rise_diff(s[0], s[1]), 0.0);
+  for (int c = 0; c < 6; c++) EXPECT_EQ(e[0][c], e[1][c]) << "f_heat[" << c + 1 << "]";
+  EXPECT_GT(e[0][5], 0.05);    // FMFS weights in use (8 %: a small block, mostly surface), not Brookshaw alone
+  EXPECT_LT(e[0][5], 1.0);    // and Brookshaw at the interface and the surface
+
+  Snapshot c[2];
+  CutEnd end[2];
+  double fmfs = 0.0;
+  for (int k = 0; k < 2; k++) {
+    auto l = counted_cut("0.6", 300, "SPHCUT_HEAT_EAGER", k ? "0" : "1");
+    c[k] = take(*l);
+    end[k] = cut_end(*l);
+    fmfs = l->equal("f_heat[6]");
+  }
+  std::printf("[ eager    ] 2D cut: rise %.3e (FMFS fraction %.3f)\n", rise_diff(c[0], c[1]), fmfs);
+  expect_same(c[0], c[1], "eager cut");
+  EXPECT_LT(rise_diff(c[0], c[1]), 1e-10);
+  expect_same_cut_end(end[0], end[1]);
+  EXPECT_GT(fmfs, 0.3);
+
+  setenv("SPHCUT_HEAT_EAGER", "2", 1);
+  {
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    auto cmds = heated_block(0);
+    cmds.pop_back();
+    l.cmds(cmds);
+    EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_HEAT_EAGER=2 is not 0 or 1"));
+  }
+  unsetenv("SPHCUT_HEAT_EAGER");
+}
 
 // an ordinary step of the heat fix launches no kernel of its own under /kk: the held rate joins
 // the temperature rate in fix sph/jc-thermal/kk's corrector, the Dirichlet particles' predicted

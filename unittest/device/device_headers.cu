@@ -29,7 +29,7 @@ struct HeatView {
   }
   __host__ __device__ double volume(int) const { return s[20]; }
   __host__ __device__ double temp(int) const { return s[21]; }
-  __host__ __device__ const double *weights(int) const { return s + 23; }
+  template <int DIM> __host__ __device__ bool weights(int, double *w) const { return row_weights<DIM>(s + 23, w); }
   __host__ __device__ double kappa(int) const { return s[22]; }
 };
 __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, double *out, const PairIn *pin, const ContactIn *cin)
