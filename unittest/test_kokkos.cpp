@@ -641,9 +641,6 @@ TEST(KokkosThermal, Cut3DFreeSidesMatchesCpu)
   expect_same_cut(cpu, kk, "cut 3D");
 }
 
-// the options the cuts do not use: the per-particle (non-conservative) form every step, a
-// material interface (FMFS -> Brookshaw), radiation and convection on the surface, a Dirichlet
-// group, scheme brookshaw; a hot block on a cooler substrate of another conductivity, 300 steps
 namespace {
 // two steel blocks of different conductivity (40 and 15 W/mK), the upper one at 900 K, touching:
 // fix heat/fmfs with opts, its surface losses and a Dirichlet layer at the bottom, 300 steps; the
@@ -682,6 +679,9 @@ double rise_diff(const Snapshot &a, const Snapshot &b)
 }
 }    // namespace
 
+// the options the cuts do not use: the per-particle (non-conservative) form every step, a
+// material interface (FMFS -> Brookshaw), radiation and convection on the surface, a Dirichlet
+// group, scheme brookshaw; a hot block on a cooler substrate of another conductivity, 300 steps
 TEST(KokkosThermal, HeatOptionsMatchCpu)
 {
   for (const std::string opts : {"conservative no", "scheme brookshaw", "every 3"}) {
@@ -840,9 +840,9 @@ const int *contact_near(Lammps &l, const char *id)
 // the conservative form's passes with each neighbour's heat row (and in the exchange its scheme
 // flag; its FMFS weights after the test) loaded before its support test (SPHCUT_HEAT_EAGER=1, the
 // default on a GPU) against the loads where they are read (0, the default on host threads): the
-// same values in the same sums.  The two-material block (FMFS inside each block, Brookshaw across the interface
-// and at the surface) to the bit, and the 2D cut in contact (the contact's atomic sums: 1e-10);
-// anything but 0 or 1 is refused by name
+// same values in the same sums.  The two-material block (FMFS inside each block, Brookshaw across
+// the interface and at the surface) to the bit, and the 2D cut in contact (the contact's atomic
+// sums: 1e-10); anything but 0 or 1 is refused by name
 TEST(KokkosThermal, HeatRowsLoadedEagerlyMatch)
 {
   double e[2][6];
