@@ -11,6 +11,11 @@
 #            on staged rows (SPHCUT_STAGE_ROWS=1), two kernels staged and in place
 #            (SPHCUT_FUSE_STEPS=0) and the default, against the CPU styles: per-atom state and the
 #            energy sums formed on the device (plastic work, Dirichlet heat, ...)
+#   concurrent  several 2D cuts at once on the one GPU (a parameter study): CONC_N (default "1 4 8
+#            16") copies of the cut at CONC_NY (41) across, CONC_STEPS (20000) steps in contact each,
+#            started together under MPS (where nvidia-cuda-mps-control starts; CONC_MPS=0: without),
+#            then CONC_NOMPS counts (default 8) without MPS: each run's us/step, the wall time of
+#            the batch and the particle-steps/s of all runs together against one run alone
 #   ncu2d    Nsight Compute on the 2D cut at PROF_NY (41) across in contact: one launch (after
 #            NCU_SKIP, 200, of its kind) of each kernel of NCU_KERNELS (;-separated regular
 #            expressions of the demangled kernel name; default the contact kernel, the joined
@@ -172,6 +177,53 @@ EOP
   done
   unset SNAP_PRINT
   cd "$ROOT"
+}
+
+# n copies of the 2D cut at once (concurrent): one batch, its summary line
+conc_batch() {
+  local n=$1 tag=$2 ny=${CONC_NY:-41} steps=${CONC_STEPS:-20000} k t0 t1
+  mkdir -p $W/conc && cd $W/conc
+  t0=$(date +%s.%N)
+  for k in $(seq $n); do
+    mkdir -p $tag$n-$k
+    (cd $tag$n-$k && timeout 280 "$BIN" $GPUK $NEV -in "$EX2" -var ny $ny -var xstart 1 -var steps $steps \
+      -var thermoevery 10000 -var printevery 100 -var dumpevery 0 -log log.c > screen.c 2>&1) &
+  done
+  wait
+  t1=$(date +%s.%N)
+  python3 - $n "$tag" $(awk -v a=$t1 -v b=$t0 'BEGIN{print a - b}') $tag$n-*/log.c >> "$SUM" <<'EOP'
+import sys, re
+n, tag, wall, logs = int(sys.argv[1]), sys.argv[2], float(sys.argv[3]), sys.argv[4:]
+loops, rates, work = [], [], 0.0
+for f in logs:
+    t = open(f).read()
+    m = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", t)
+    if not m:
+        continue
+    loop, steps, atoms = float(m[-1][0]), int(m[-1][1]), int(m[-1][2])
+    loops.append(loop)
+    rates.append(1e6 * loop / steps)
+    work += atoms * steps
+if not loops:
+    print(f"  concurrent {tag}{n}: no run finished"); sys.exit()
+print(f"  concurrent {tag}{n}: {len(loops)} of {n} runs, us/step {min(rates):.1f}-{max(rates):.1f} (mean {sum(rates) / len(rates):.1f}),"
+      f" batch wall {wall:.1f} s, all runs {work / max(loops):.3e} particle-steps/s over the longest loop,"
+      f" {work / wall:.3e} over the batch's wall")
+EOP
+  cd "$ROOT"
+}
+
+concurrent() {
+  local started=0 n
+  if [ "${CONC_MPS:-1}" = 1 ] && command -v nvidia-cuda-mps-control > /dev/null; then
+    nvidia-cuda-mps-control -d 2>/dev/null && started=1
+  fi
+  say "concurrent: the 2D cut at ${CONC_NY:-41} across, ${CONC_STEPS:-20000} steps each (MPS $started)"
+  local tag=plain
+  [ $started = 0 ] || tag=mps
+  for n in ${CONC_N:-1 4 8 16}; do conc_batch $n $tag; done
+  [ $started = 0 ] || { echo quit | nvidia-cuda-mps-control; sleep 2; }
+  for n in ${CONC_NOMPS-8}; do conc_batch $n plain; done
 }
 
 ncu2d() {
