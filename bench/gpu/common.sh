@@ -36,7 +36,10 @@ build() {
   bash "$ROOT/tools/build-deps.sh" --cuda --no-apt --sources /tmp/sphcut-src --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
     || { tail -30 "$OUT/build-deps.log"; exit 1; }
   PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
+  # (SPHCUT_CXX_FLAGS: more flags for the plugin's compiler, nvcc_wrapper; e.g. -lineinfo for
+  # the source lines of Nsight Compute, cutting.sh ncu2d with NCU_PRINT_SOURCE=cuda)
   cmake -S "$ROOT" -B "$ROOT/build-cuda" -DSPHCUT_DEPS_FILE="$PREFIX/sphcut-deps.cmake" -DBUILD_TESTING=OFF \
+    ${SPHCUT_CXX_FLAGS:+"-DCMAKE_CXX_FLAGS=$SPHCUT_CXX_FLAGS"} \
     > "$OUT/plugin-build.log" 2>&1 && cmake --build "$ROOT/build-cuda" -j "$NJ" >> "$OUT/plugin-build.log" 2>&1 \
     || { tail -40 "$OUT/plugin-build.log"; exit 1; }
   cp "$PREFIX/build-times.txt" "$OUT/build-times.txt" 2>/dev/null || true

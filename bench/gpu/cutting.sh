@@ -21,6 +21,7 @@
 #            expressions of the demangled kernel name; default the contact kernel, the joined
 #            corrector and first half, the pair's team pass): duration, registers, occupancy, the
 #            warps' stall reasons (sampled) and the SASS instructions with the most stall samples
+#            (NCU_PRINT_SOURCE=cuda: the source lines, with a plugin built with SPHCUT_CXX_FLAGS=-lineinfo)
 #   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
 #   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces; in
 #            segments with CUT_END (restart files, continued by the next call)
@@ -243,7 +244,7 @@ ncu2d() {
     ncu -i ncu$n.ncu-rep --page details 2>/dev/null | grep -E "^  [a-zA-Z_].*\(|  Duration|Registers Per Thread|Block Size|Grid Size|Achieved Occupancy|Theoretical Occupancy|Warp Cycles Per Issued|Executed Ipc Active" \
       | head -12 | sed 's/^/  /' >> "$SUM"
     ncu -i ncu$n.ncu-rep --page raw --csv 2>/dev/null > raw$n.csv
-    ncu -i ncu$n.ncu-rep --page source --csv --print-source sass 2>/dev/null > src$n.csv
+    ncu -i ncu$n.ncu-rep --page source --csv --print-source ${NCU_PRINT_SOURCE:-sass} 2>/dev/null > src$n.csv
     python3 - raw$n.csv src$n.csv >> "$SUM" <<'EOP'
 import csv, sys, re
 # the stall reasons: the sampled warps per reason (smsp__pcsamp_warps_issue_stalled_*)
