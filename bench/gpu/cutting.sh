@@ -106,10 +106,13 @@ EOI
   [ ! -f decomp.dat ] || mv decomp.dat decomp.$(basename $out .dump)
 }
 
+# the cases of check (and sums): the 2D quick cut and the 3D cut with free sides, 1000 steps in contact
+CHECK2D="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0"
+CHECK3D="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100"
+
 check() {
   cd $W
-  local v2="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0 -var decomp 7 ${CHECK_VARS:-}"
-  local v3="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100 ${CHECK_VARS:-}"
+  local v2="$CHECK2D -var decomp 7 ${CHECK_VARS:-}" v3="$CHECK3D ${CHECK_VARS:-}"
   local tol=${CHECK_TOL:-1e-8}
   [ -n "${CHECK_VARS:-}" ] && say "check with $CHECK_VARS, tolerance $tol"
   snapshot "$EX2" cpu2.dump $v2 && snapshot "$EX2" gpu2.dump $GPUK $v2 && \
@@ -153,8 +156,7 @@ EOP
 # fix's convection, Dirichlet and thermal energy) against the CPU's, relative
 sums() {
   cd $W
-  local v2="-var ny 11 -var xstart 0.6 -var steps 1000 -var thermoevery 100 -var dumpevery 0"
-  local v3="-var ny 6 -var nz 3 -var sides free -var xstart 0.6 -var steps 1000 -var thermoevery 100"
+  local v2=$CHECK2D v3=$CHECK3D
   local tol=${CHECK_TOL:-1e-8} d ex v k set sets
   sets=("SPHCUT_STAGE_ROWS=1" "SPHCUT_STAGE_ROWS=1 SPHCUT_FUSE_STEPS=0" "SPHCUT_STAGE_ROWS=0 SPHCUT_FUSE_STEPS=0" "ENVAB_NONE=1")
   local SNAP_PRINT='print "SUMS $(f_sph[2]:%.17g) $(f_sph[3]:%.17g) $(f_sph[4]:%.17g) $(f_heat[1]:%.17g) $(f_heat[3]:%.17g) $(f_heat[5]:%.17g)"'
