@@ -24,6 +24,10 @@
 #            through LAMMPS' own pageable host buffers, SPHCUT_LAMMPS_STAGE=pageable), the baselines
 #            of fixes 6-9 of tools/build-deps.sh
 #   weak     the same with NZ x N layers on N GPUs (about 4.1 M particles per GPU): efficiency t1 / tN
+#   chip     the 3D cut with free sides at 10 M particles (CHIP_NY 21 across, CHIP_NZ 2048 layers: the
+#            1 M-particle cut's spacing on a 30.7 mm wide workpiece) on CHIP_NP (4) GPUs over CHIP_CUT
+#            (0.5e-3 m), detached from the call so that it runs on over several calls on one warm
+#            machine (see chip() below): time to solution, forces per mm, the last frame around the tool
 # Settings (environment): MGPU_NP (GPU counts, default "1 2 4"; counts above the machine's GPUs are
 # skipped), MGPU_MIGRATE ("device host"), NZ (232), STEPS (200), REBUILD (reneighbour every this many
 # steps, default 20, neigh_modify check no: the tool moves about 1e-3 spacings per step, so with the
@@ -266,6 +270,67 @@ classic() {
 }
 weak() { scaling weak; }
 check() { check2; }
+
+# the 3D cut with free sides at scale on CHIP_NP (4) GPUs, detached from the device call: the call
+# that finds no run starts one (setsid: it goes on after the call returns, while the machine stays
+# warm), and each call waits for it until CHIP_WAIT_END (the epoch second it returns by, default
+# 500 s on), saying how far it got; the call that finds it ended reports it and copies its files to
+# $OUT/chip/ (CHIP_WAIT_END must fall inside the call's limit, the first call's build included).
+# The run ends at CHIP_CUT of cut or at CHIP_RUN_END (the epoch second; LAMMPS' timer timeout from
+# the start, setup included), whichever comes first, then writes the last frame of the region
+# around the tool (x from CHIP_PIC_AHEAD, 0.3e-3 m, ahead of the tool tip, where the chip is; z in
+# CHIP_PIC_Z: one free side and 1.5 mm in) for tools/render_chip.py; CHIP_STOP=1 ends it at once,
+# CHIP_FRESH=1 starts anew where the last run ended.  The 10 M-particle cut of RESULTS.md: three
+# calls of  CHIP_RUN_END=<first call's start + 1450> CHIP_WAIT_END=<now + 500> multigpu.sh chip
+chip() {
+  local n=${CHIP_NP:-4} ny=${CHIP_NY:-21} nz=${CHIP_NZ:-2048} cut=${CHIP_CUT:-0.5e-3}
+  local d=$W/chip-$ny-$nz
+  # CHIP_FRESH=1: a new run, the folder of an earlier one (ended) removed
+  [ "${CHIP_FRESH:-0}" = 1 ] && [ -f $d/ended ] && rm -rf $d
+  mkdir -p $d && cd $d
+  if [ ! -f started ]; then
+    [ "$n" -le "$NGPU" ] || { say "chip: needs $n GPUs, this machine has $NGPU"; cd "$ROOT"; return 0; }
+    local now; now=$(date +%s)
+    local tout=$(( ${CHIP_RUN_END:-$(( now + 3600 ))} - now ))
+    # the example with a second halt: the run also ends where a later call writes the file "stop"
+    sed 's|^run          \${nsteps}$|fix          stopfile all halt 100 v_stopfile > 0 error continue\n&|' "$EX3" > in.example
+    grep -q "^fix          stopfile" in.example || { say "chip: the run line of $EX3 not found"; cd "$ROOT"; return 1; }
+    # the domain split across the width, where the work is the same everywhere
+    cat > in.chip <<EOI
+processors   1 1 *
+timer        timeout $tout every 100
+variable     stopfile equal is_file(stop)
+include      in.example
+timer        timeout off
+region       pic block \$(v_xtip+f_cut[8]-${CHIP_PIC_AHEAD:-0.3e-3}) INF INF INF ${CHIP_PIC_Z:--0.3e-3 1.5e-3} units box
+group        pic region pic
+dump_sph     snap pic \${printevery} chip.dump id type x y z temperature plastic_strain role
+dump_modify  snap sort id
+run          0
+EOI
+    echo $now > started
+    setsid nohup bash -c "mpirun -np $n $BIN $(kk $n) -in in.chip -var ny $ny -var nz $nz -var sides free \
+      -var cut $cut -var xstart 1 -var thermoevery 5000 -var printevery 100 ${CHIP_ARGS:-} -log log.chip; echo \$? > ended" \
+      > screen 2>&1 < /dev/null &
+    say "chip: started on $n GPUs, ny $ny nz $nz, cut $cut m, $tout s at most"
+  fi
+  # CHIP_STOP=1: end the run now (at its next check, every 100 steps), with its last frame
+  [ "${CHIP_STOP:-0}" = 1 ] && [ ! -f ended ] && touch stop && say "chip: asked to stop"
+  local end=${CHIP_WAIT_END:-$(( $(date +%s) + 500 ))} t0; t0=$(cat started)
+  while [ ! -f ended ] && [ $(( $(date +%s) + 15 )) -lt $end ]; do sleep 10; done
+  local last; last=$(grep -v '^#' forces.dat 2>/dev/null | tail -1)
+  say "chip: $(( $(date +%s) - t0 )) s since the start; $(grep -m1 -o 'Created [0-9]* atoms' log.chip | head -1) (workpiece),"\
+    "$(grep '^Loop time' log.chip | head -1 | awk '{print $(NF-1), "particles"}'); forces.dat: ${last:-none yet}"
+  grep -m1 -E "ERROR|Wall time limit" screen log.chip 2>/dev/null | sed 's/^/  /' | tee -a "$SUM"
+  if [ -f ended ]; then
+    say "chip: ended (exit $(cat ended)); $(grep '^Loop time' log.chip | sed -n 2p)"
+    sed '/^dump_sph/,$d' log.chip > log.main && breakdown log.main
+    python3 "$ROOT/examples/cutting-2d-ti6al4v/steady.py" 2>&1 | head -3 | sed 's/^/  /' | tee -a "$SUM"
+    mkdir -p "$OUT/chip" && cp forces.dat log.chip in.chip "$OUT/chip/" && tail -20 screen > "$OUT/chip/screen.tail"
+    [ -f chip.dump ] && gzip -c chip.dump > "$OUT/chip/chip.dump.gz"
+  fi
+  cd "$ROOT"
+}
 
 say "multigpu: $NGPU GPU(s); MPI: $(mpirun --version 2>&1 | head -1); CUDA-aware: $(ompi_info --parsable --all 2>/dev/null | grep -m1 mpi_built_with_cuda_support:value || echo unknown)"
 run_modes "$@"
