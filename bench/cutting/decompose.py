@@ -14,7 +14,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "..", "examples", "cutting-2d-ti6al4v"))
-from seed003 import STEADY_FROM, steady_rows  # noqa: E402
+from seed003 import STEADY_FROM, block_error, steady_rows  # noqa: E402
 from steady import read_rows  # noqa: E402
 
 FEATURES = ("rake", "edge", "flank")
@@ -24,17 +24,6 @@ def steady_forces(run):
     lmax, sel = steady_rows(read_rows(os.path.join(run, "forces.dat")))
     return lmax, sum(r[2] for r in sel) / len(sel), sum(r[3] for r in sel) / len(sel), \
         sum(r[5] for r in sel) / len(sel), len(sel)
-
-
-def block_error(values, nblock=5):
-    """standard error of the mean from nblock consecutive block means (the samples of a cut
-    are correlated over many steps: block means are closer to independent)"""
-    m = len(values) // nblock
-    if m < 2:
-        return float("nan")
-    means = [sum(values[b * m:(b + 1) * m]) / m for b in range(nblock)]
-    mu = sum(means) / nblock
-    return (sum((x - mu) ** 2 for x in means) / (nblock - 1) / nblock) ** 0.5
 
 
 def steady_errors(run):
@@ -192,6 +181,8 @@ def table(dx, runs):
 
 
 if __name__ == "__main__":
+    if len(sys.argv) < 2 or (sys.argv[1] == "--table" and len(sys.argv) < 4):
+        sys.exit(__doc__.split("Usage: ")[1])
     if sys.argv[1] == "--table":
         table(float(sys.argv[2]), sys.argv[3:])
         sys.exit(0)

@@ -660,18 +660,17 @@ EOI
   timeout ${DT_TIMEOUT:-560} "$BIN" $GPUK $NEV -in in.dt -var ny $ny -var cut ${DT_CUT:-0.907e-3} -var cfl $cfl -var dtfac $dtfac \
     -var thermoevery 10000 -var printevery 100 -var dumpevery 0 ${DT_ARGS:-} -log log.dt > screen 2>&1
   local rc=$? w; w=$(awk -v a="$(date +%s.%N)" -v b=$t0 'BEGIN{print a - b}')
-  local f; f=$(python3 - forces.dat <<'EOP'
+  local f; f=$(python3 - forces.dat "$ROOT/examples/cutting-2d-ti6al4v" <<'EOP'
 import sys
+sys.path.insert(0, sys.argv[2])
+from seed003 import block_error
 rows = [l.split() for l in open(sys.argv[1]) if not l.startswith('#')]
 rows = [[float(x) for x in r] for r in rows if float(r[2]) >= 0.3]
 if len(rows) < 10:
     print('too short'); sys.exit()
 def blocks(c):
-    n = len(rows) // 5
-    m = [sum(r[c] for r in rows[k * n:(k + 1) * n]) / n for k in range(5)]
-    mean = sum(m) / 5
-    se = (sum((x - mean) ** 2 for x in m) / 20) ** 0.5
-    return mean, se
+    n = len(rows) // 5 * 5
+    return sum(r[c] for r in rows[:n]) / n, block_error([r[c] for r in rows])
 fc, ft, tr = blocks(3), blocks(4), blocks(6)
 print('Fc %.1f +- %.1f Ft %.1f +- %.1f Trake %.0f to %.3f mm' % (fc[0], fc[1], ft[0], ft[1], tr[0], rows[-1][2]))
 EOP

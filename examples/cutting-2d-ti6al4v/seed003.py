@@ -26,6 +26,18 @@ def spacing(ny):
     return HEIGHT / (ny - 1)
 
 
+def block_error(values, nblock=5):
+    """standard error of the mean from nblock consecutive block means (the samples of a cut are
+    correlated over many steps, and the chip of Ti6Al4V is serrated: block means are closer to
+    independent); nan with fewer than 2 samples a block"""
+    m = len(values) // nblock
+    if m < 2:
+        return float("nan")
+    means = [sum(values[b * m:(b + 1) * m]) / m for b in range(nblock)]
+    mu = sum(means) / nblock
+    return (sum((x - mu) ** 2 for x in means) / (nblock - 1) / nblock) ** 0.5
+
+
 def steady_rows(rows):
     """the rows of forces.dat (steady.read_rows) in the steady state: cut length >= 10 % of the
     run's; returns (the run's cut length [mm], the selected rows)"""
