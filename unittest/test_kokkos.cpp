@@ -46,6 +46,21 @@ Snapshot run(const std::vector<std::string> &args, const std::string &newton, in
   return take(l);
 }
 
+// a benchmark switch of the /kk styles (environment variable name) set to value: LAMMPS under /kk,
+// after cmds, stops at trigger (the command that runs the style's init) with an error naming the
+// switch, the value and what is allowed; the switch is unset again
+void expect_switch_refused(const char *name, const std::string &value, const std::vector<std::string> &cmds,
+                           const std::string &trigger, const std::string &allowed = "0 or 1")
+{
+  setenv(name, value.c_str(), 1);
+  {
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds(cmds);
+    EXPECT_TRUE(l.error_contains(trigger, std::string(name) + "=" + value + " is not " + allowed)) << name << "=" << value;
+  }
+  unsetenv(name);
+}
+
 }    // namespace
 
 TEST(Kokkos, StylesAreTheKokkosOnes)
@@ -118,11 +133,7 @@ TEST(Kokkos, PrefetchedNeighbourPassMatchesCpu)
     expect_same(taken, ahead, dim == 2 ? "ahead 2D" : "ahead 3D", 1e-12);
     expect_same(run({}, "on", dim, 100), ahead, dim == 2 ? "kk ahead 2D" : "kk ahead 3D");
   }
-  setenv("SPHCUT_PAIR_PREFETCH", "2", 1);
-  Lammps l(MPI_COMM_WORLD, KK_FULL);
-  l.cmds(collision("off"));
-  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_PAIR_PREFETCH=2 is not 0 or 1"));
-  unsetenv("SPHCUT_PAIR_PREFETCH");
+  expect_switch_refused("SPHCUT_PAIR_PREFETCH", "2", collision("off"), "run 0");
 }
 
 // the hourglass control (pair_style ... hourglass kappa) under /kk: full list (thread and team
@@ -454,13 +465,8 @@ TEST(Kokkos, ClearErrors)
     // the benchmarks' override of the pair's lanes per particle (bench/gpu/cutting.sh lanes): a
     // value that is not a power of 2 up to 32 is refused by name, a valid one runs (a host backend
     // keeps its one lane)
-    for (const char *bad : {"3", "64", "0", "four"}) {
-      setenv("SPHCUT_PAIR_LANES", bad, 1);
-      Lammps l(MPI_COMM_WORLD, KK_FULL);
-      l.cmds(collision("off"));
-      EXPECT_TRUE(l.error_contains("run 0", std::string("SPHCUT_PAIR_LANES=") + bad + " is not 1, 2, 4, 8, 16 or 32"))
-          << bad;
-    }
+    for (const char *bad : {"3", "64", "0", "four"})
+      expect_switch_refused("SPHCUT_PAIR_LANES", bad, collision("off"), "run 0", "1, 2, 4, 8, 16 or 32");
     setenv("SPHCUT_PAIR_LANES", "4", 1);
     const Snapshot four = run(KK_FULL, "off", 2, 20);
     unsetenv("SPHCUT_PAIR_LANES");
@@ -470,12 +476,7 @@ TEST(Kokkos, ClearErrors)
     // the benchmarks' switch of the pair's launch bounds (cutting.sh envab): anything but 0 or 1 is
     // refused by name; 0 (unbounded) gives the same state as the default (bounds change no
     // arithmetic)
-    for (const char *bad : {"2", "yes", "-1"}) {
-      setenv("SPHCUT_PAIR_BOUNDS", bad, 1);
-      Lammps l(MPI_COMM_WORLD, KK_FULL);
-      l.cmds(collision("off"));
-      EXPECT_TRUE(l.error_contains("run 0", std::string("SPHCUT_PAIR_BOUNDS=") + bad + " is not 0 or 1")) << bad;
-    }
+    for (const char *bad : {"2", "yes", "-1"}) expect_switch_refused("SPHCUT_PAIR_BOUNDS", bad, collision("off"), "run 0");
     setenv("SPHCUT_PAIR_BOUNDS", "0", 1);
     const Snapshot unbounded = run(KK_FULL, "off", 2, 20);
     unsetenv("SPHCUT_PAIR_BOUNDS");
@@ -875,15 +876,9 @@ TEST(KokkosThermal, HeatRowsLoadedEagerlyMatch)
   expect_same_cut_end(end[0], end[1]);
   EXPECT_GT(fmfs, 0.3);
 
-  setenv("SPHCUT_HEAT_EAGER", "2", 1);
-  {
-    Lammps l(MPI_COMM_WORLD, KK_FULL);
-    auto cmds = heated_block(0);
-    cmds.pop_back();
-    l.cmds(cmds);
-    EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_HEAT_EAGER=2 is not 0 or 1"));
-  }
-  unsetenv("SPHCUT_HEAT_EAGER");
+  auto block = heated_block(0);
+  block.pop_back();    // (its run)
+  expect_switch_refused("SPHCUT_HEAT_EAGER", "2", block, "run 0");
 }
 
 // an ordinary step of the heat fix launches no kernel of its own under /kk: the held rate joins
@@ -1055,11 +1050,7 @@ TEST(KokkosThermal, StagedRowsMatchInPlace)
   const Snapshot staged3 = run(KK_FULL, "off", 3, 100);
   unsetenv("SPHCUT_STAGE_ROWS");
   expect_same(run({}, "on", 3, 100), staged3, "kk staged 3D");
-  setenv("SPHCUT_STAGE_ROWS", "2", 1);
-  Lammps l(MPI_COMM_WORLD, KK_FULL);
-  l.cmds(collision("off"));
-  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_STAGE_ROWS=2 is not 0 or 1"));
-  unsetenv("SPHCUT_STAGE_ROWS");
+  expect_switch_refused("SPHCUT_STAGE_ROWS", "2", collision("off"), "run 0");
 }
 
 namespace {
@@ -1199,11 +1190,7 @@ TEST(KokkosThermal, CorrectorJoinsTheNextFirstHalf)
   const Snapshot e = heated_block_run(1, 60, 0, &q[0], print);
   EXPECT_EQ(launches["sphcut:sph:correct_then_first_half"], 32);    // after steps 1-59 but those of 3 or 5
   expect_same(e, b, "fused block printed every 3 steps", 1e-13);
-  setenv("SPHCUT_FUSE_STEPS", "2", 1);
-  Lammps l(MPI_COMM_WORLD, KK_FULL);
-  l.cmds(collision("off"));
-  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_FUSE_STEPS=2 is not 0 or 1"));
-  unsetenv("SPHCUT_FUSE_STEPS");
+  expect_switch_refused("SPHCUT_FUSE_STEPS", "2", collision("off"), "run 0");
 }
 
 // the reductions over the particles (fix sph/jc-thermal/kk's corrector, fix heat/fmfs/kk's two
@@ -1264,13 +1251,9 @@ TEST(KokkosThermal, WideReductionsMatchKokkos)
   EXPECT_EQ(dt[1], dt[0]);
   EXPECT_GT(qdir[0], 0.0);
   EXPECT_NEAR(qdir[1], qdir[0], 1e-12 * qdir[0]);
-  setenv("SPHCUT_WIDE_REDUCE", "yes", 1);
-  Lammps l(MPI_COMM_WORLD, KK_FULL);
   auto block = heated_block(0);
   block.pop_back();    // (its run)
-  l.cmds(block);
-  EXPECT_TRUE(l.error_contains("run 0", "SPHCUT_WIDE_REDUCE=yes is not 0 or 1"));
-  unsetenv("SPHCUT_WIDE_REDUCE");
+  expect_switch_refused("SPHCUT_WIDE_REDUCE", "yes", block, "run 0");
 }
 
 // a reduction of two values for sphcut::wide_reduce: the sum of i + 1 and the minimum of 1000 - i;
@@ -1636,12 +1619,10 @@ TEST(KokkosThermal, Example3DSortsOnlyOnTheCpu)
 // anything but 0 or 1 is refused by name
 TEST(KokkosThermal, GatherFoldSwitchChecked)
 {
-  setenv("SPHCUT_GATHER_FOLD", "2", 1);
-  Lammps l(MPI_COMM_WORLD, KK_FULL);
-  for (auto &v : {"xstart index 3", "steps index 10", "ny index 11", "dumpevery index 0"})
-    l.cmd(std::string("variable ") + v);
-  EXPECT_TRUE(l.error_contains("include " + CUT2D, "SPHCUT_GATHER_FOLD=2 is not 0 or 1"));
-  unsetenv("SPHCUT_GATHER_FOLD");
+  expect_switch_refused("SPHCUT_GATHER_FOLD", "2",
+                        {"variable xstart index 3", "variable steps index 10", "variable ny index 11",
+                         "variable dumpevery index 0"},
+                        "include " + CUT2D);
 }
 
 // the cut split by a restart across the styles: 8000 steps with the CPU styles, write_restart,
