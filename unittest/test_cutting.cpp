@@ -365,20 +365,23 @@ TEST(Cutting, BalanceRcbEqualsShift)
 // the input names (xcen, ycen).  The thermal tool particles lie inside the rounded insert, at least
 // half a spacing d inside the rake face, the flank and the edge (within rn - d of the centre where
 // the arc is the nearest surface), and follow the edge: one lies within d + 1.5 dx of it.  H
-// (-var H 0) is max(3 h, h + 3 rn), the spacing H / (ny - 1), the workpiece's top at H and its
-// length (-var length 0) max(1.5 cut, cut + 5 h).
+// (-var H 0) is max(3 h, h + 3 rn) or the height given, the spacing H / (ny - 1), the workpiece's
+// top at H and its length (-var length 0) max(1.5 cut, cut + 5 h).  (A height not above h stops
+// the input: test_example_height_error.)
 TEST(Cutting, EdgeRadiusAndUncutChipThickness)
 {
   struct Case {
     double rn, h, rake, clearance, H;    // H: the expected height
     int ny;
+    const char *Hin = "0";               // -var H
   };
   const Case cases[] = {{28.7e-6, 0.1e-3, 0, 7, 0.3e-3, 11},      // the default
                         {28.7e-6, 0.1e-3, 0, 7, 0.3e-3, 41},      // the edge spans 3.8 spacings
                         {2.8e-6, 0.1e-3, 0, 7, 0.3e-3, 11},       // seed 003's Table 1
                         {28.7e-6, 0.05e-3, 0, 7, 0.15e-3, 11},    // H = 3 h
                         {28.7e-6, 0.02e-3, 0, 7, 0.1061e-3, 11},  // H = h + 3 rn
-                        {28.7e-6, 0.1e-3, 10, 5, 0.3e-3, 41}};    // other angles
+                        {28.7e-6, 0.1e-3, 10, 5, 0.3e-3, 41},     // other angles
+                        {28.7e-6, 0.05e-3, 0, 7, 0.2e-3, 11, "0.2e-3"}};    // H given
   const double cut = 0.12e-3;
   for (const Case &c : cases) {
     const int ny = c.ny;
@@ -394,7 +397,7 @@ TEST(Cutting, EdgeRadiusAndUncutChipThickness)
     l.cmds({"variable ny index " + std::to_string(ny), "variable cut index 0.12e-3", "variable length index 0",
             "variable dumpevery index 0", "variable steps index 1", std::string("variable rn index ") + rn,
             std::string("variable h index ") + h, std::string("variable rake index ") + ga,
-            std::string("variable clearance index ") + al});
+            std::string("variable clearance index ") + al, std::string("variable H index ") + c.Hin});
     l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
     const double H = l.equal("v_H"), dx = l.equal("v_dx"), d = 0.5 * dx;
     EXPECT_NEAR(H, c.H, 1e-12) << tag;
