@@ -1,7 +1,7 @@
 """The seed-003 cutting case's reference figures (Afrasiabi et al. 2021, ../../../shared/seeds/),
 in one place for the example's scripts and bench/ (steady.py, plot.py, bench/cutting/*.py,
 bench/pareto/run.sh, bench/cutting/sensitivity.sh), and the steady-state window they all use.
-The geometry and speed must match in.cutting (variables H and vc)."""
+The geometry and speed must match in.cutting (variables h, rn, H and vc)."""
 
 # experiment, seed 003 Fig. 6: cutting and thrust force per mm of width [N/mm]
 EXP_FC, EXP_FT = 157.5, 104.2
@@ -14,16 +14,25 @@ SPH_FC, SPH_FT = PAPER["SPH proposed thermal model, mu 0.35"]
 # low-speed case (sec. 5.2.2, vc 20 m/min, 0.3 mm of cut): rake-face temperature [K]
 LOWSPEED_T_EXP = 680.0      # measured, about
 LOWSPEED_T_PAPER = 744.0    # the paper's SPH
-# in.cutting's geometry and speed
-HEIGHT = 0.3e-3             # workpiece height [m]; particle spacing = HEIGHT / (ny - 1)
+# in.cutting's geometry and speed (its defaults)
+UNCUT = 0.1e-3              # uncut chip thickness h [m] (-var h)
+EDGE_RADIUS = 28.7e-6       # cutting-edge radius rn [m] (-var rn): the measured edge of test V0061 (Klippel et
+                            # al., Int J Adv Manuf Technol 135 (2024) 2871, doi:10.1007/s00170-024-14597-2);
+                            # the paper's Table 1: 2.8e-6
+HEIGHT = 0.3e-3             # the paper's workpiece height [m] (height(UNCUT, EDGE_RADIUS))
 VC = 318.5                  # cutting speed [m/min]
 RHO0 = 4430.0               # Ti6Al4V reference density [kg/m^3]
 STEADY_FROM = 0.1           # steady state: after this fraction of the cut (as seed 003)
 
 
-def spacing(ny):
-    """particle spacing [m] of in.cutting at ny particles across"""
-    return HEIGHT / (ny - 1)
+def height(h=UNCUT, rn=EDGE_RADIUS, H=0.0):
+    """workpiece height [m] of in.cutting: -var H, or with H 0 (its default) max(3 h, h + 3 rn)"""
+    return H if H > 0 else max(3.0 * h, h + 3.0 * rn)
+
+
+def spacing(ny, h=UNCUT, rn=EDGE_RADIUS, H=0.0):
+    """particle spacing [m] of in.cutting at ny particles across the height"""
+    return height(h, rn, H) / (ny - 1)
 
 
 def block_error(values, nblock=5):
@@ -45,6 +54,7 @@ def steady_rows(rows):
     return lmax, [r for r in rows if r[1] >= STEADY_FROM * lmax and r[1] > 0.0]
 
 
-if __name__ == "__main__":    # for shell scripts: python3 seed003.py spacing NY | vc
+if __name__ == "__main__":    # for shell scripts: python3 seed003.py spacing NY [h rn H] | vc
     import sys
-    print({"spacing": lambda: spacing(int(sys.argv[2])), "vc": lambda: VC}[sys.argv[1]]())
+    print({"spacing": lambda: spacing(int(sys.argv[2]), *map(float, sys.argv[3:6])),
+           "vc": lambda: VC}[sys.argv[1]]())
