@@ -65,7 +65,7 @@ taylor() {
     timeout "${TAYLOR_TIMEOUT:-500}" "$BIN" $GPU -in "$ROOT/examples/taylor-bar/in.taylor" -var dx $dx \
       -log log.taylor-$dx > screen-$dx 2>&1 \
       || say "taylor dx $dx: FAILED or timed out ($(grep -m1 ERROR screen-$dx))"
-    say "taylor dx $dx: $(grep '^TAYLOR' log.taylor-$dx) atoms $(grep -m1 'Created .* atoms' log.taylor-$dx | awk '{print $2}'), wall $(( $(date +%s) - t0 )) s"
+    say "taylor dx $dx: $(grep '^TAYLOR final' log.taylor-$dx) atoms $(grep -m1 'Created .* atoms' log.taylor-$dx | awk '{print $2}'), wall $(( $(date +%s) - t0 )) s"
     grep "^Loop time" log.taylor-$dx | tail -2 >> "$SUM"
     cp log.taylor-$dx "$OUT/" 2>/dev/null
   done
@@ -93,7 +93,7 @@ taylor_cpu() {
     local t0; t0=$(date +%s)
     timeout "${TAYLOR_TIMEOUT:-500}" mpirun -np 16 "$BIN" -in "$ROOT/examples/taylor-bar/in.taylor" -var dx $dx \
       -log log.taylor-cpu16-$dx > screen-cpu-$dx 2>&1 || say "taylor cpu16 dx $dx: FAILED or timed out"
-    say "taylor cpu16 dx $dx: $(grep '^TAYLOR' log.taylor-cpu16-$dx), wall $(( $(date +%s) - t0 )) s"
+    say "taylor cpu16 dx $dx: $(grep '^TAYLOR final' log.taylor-cpu16-$dx), wall $(( $(date +%s) - t0 )) s"
     grep "^Loop time" log.taylor-cpu16-$dx | tail -2 >> "$SUM"
   done
   cd "$ROOT"

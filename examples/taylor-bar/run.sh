@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Taylor bar impact; DX=particle spacing (default 0.4e-3 m, 32,600 particles), NP=MPI ranks.
+# Taylor bar impact; DX=particle spacing (default 0.4e-3 m, 31,104 particles), NP=MPI ranks.
 # Run from an output folder: the log lands there.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
