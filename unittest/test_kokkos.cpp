@@ -406,6 +406,17 @@ TEST(Kokkos, EnergyBalanceAsOnTheCpu)
   EXPECT_NEAR(drift_kk, drift_cpu, 1e-10);
 }
 
+// compute reduce/region/kk without -k on stops at its definition, as the other /kk styles do (it
+// crashed at the run's setup, in AtomKokkos::sync; issue 50)
+TEST(Kokkos, WithoutKokkosEnabled)
+{
+  Lammps l(MPI_COMM_WORLD, {});
+  l.cmds(collision("off"));
+  l.cmd("region rr block -1e-3 1e-3 0 2e-3 INF INF units box");
+  EXPECT_TRUE(l.error_contains("compute r all reduce/region/kk rr ave f_sph[12]",
+                               "Compute reduce/region/kk needs the KOKKOS package enabled"));
+}
+
 TEST(Kokkos, ClearErrors)
 {
   {
