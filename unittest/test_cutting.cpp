@@ -15,6 +15,8 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <sstream>
+#include <string>
 
 using sphcut_test::Lammps;
 
@@ -51,6 +53,57 @@ bool continue_from_restart_b()
   }
   MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
   return ok;
+}
+
+// forces.dat's lines by step (a continued run appends: the last line of a step wins); rank 0 only
+std::map<long, std::string> forces_rows()
+{
+  std::map<long, std::string> rows;
+  std::ifstream in("forces.dat");
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty() && line[0] != '#') rows[std::stol(line)] = line;
+  return rows;
+}
+
+// every line and column of forces.dat (step, time, cut, Fc, Ft, Tmax, Trake) against the uninterrupted
+// run's (rank 0): the same text on one rank (rtol 0); on several, each column within rtol of its largest
+// value in the reference
+void expect_same_rows(const std::map<long, std::string> &ref, const std::map<long, std::string> &got, double rtol)
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  if (me != 0) return;
+  auto values = [](const std::string &line) {
+    std::istringstream ss(line);
+    std::vector<double> v;
+    for (double x; ss >> x;) v.push_back(x);
+    return v;
+  };
+  std::vector<double> scale;
+  for (const auto &r : ref) {
+    const std::vector<double> v = values(r.second);
+    scale.resize(std::max(scale.size(), v.size()), 0.0);
+    for (size_t k = 0; k < v.size(); k++) scale[k] = std::max(scale[k], fabs(v[k]));
+  }
+  int differ = 0;
+  std::string first;
+  for (const auto &r : ref) {
+    auto g = got.find(r.first);
+    bool same = g != got.end();
+    if (same && rtol == 0.0) same = g->second == r.second;
+    if (same && rtol > 0.0) {
+      const std::vector<double> a = values(r.second), b = values(g->second);
+      same = a.size() == b.size();
+      for (size_t k = 0; same && k < a.size(); k++) same = fabs(a[k] - b[k]) <= rtol * scale[k];
+    }
+    if (!same && differ++ == 0)
+      first = "step " + std::to_string(r.first) + ": '" + r.second + "' / '" + (g != got.end() ? g->second : "none") + "'";
+  }
+  std::printf("[ restart  ] forces.dat: %d of %zu lines differ (every column)%s%s\n", differ, ref.size(),
+              differ ? ", first at " : "", first.c_str());
+  EXPECT_EQ(got.size(), ref.size());
+  EXPECT_EQ(differ, 0) << first;
 }
 
 // spall: the example's pair_coeff spall (its default release, and cutoff); tol: the energy
@@ -127,7 +180,8 @@ TEST(Cutting, QuickTi6Al4V)
 // a long cut split with restart files continues as one run: 9000 steps in one go against
 // 8000 + write_restart + read_restart (-var continue 1) + 1000, with the tool in contact
 // (it reaches the workpiece after about 7700 steps).  On one rank the continued run is the
-// unsplit one bit for bit.  On several ranks (ctest: test_cutting_restart_np2) it is not: the
+// unsplit one bit for bit, in every line and column of forces.dat (the time too: fix sph/jc-thermal
+// gives LAMMPS back the time as of its last change of dt, which LAMMPS folds at the end of a run).  On several ranks (ctest: test_cutting_restart_np2) it is not: the
 // continued run reads the atoms in the restart file's order and balances the ranks anew at its
 // start (the example's balance command), so each rank holds its atoms, ghosts and neighbours in
 // another order than the unsplit run did, the sums over neighbours are added in another order,
@@ -157,9 +211,10 @@ TEST(Cutting, RestartContinuesTheCut)
   remove_periodic_restarts();
   auto ref = run(9000, 0, 4000);
   const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), work = ref->equal("f_cut[13]");
-  const double eint = ref->equal("f_sph[2]");
+  const double eint = ref->equal("f_sph[2]"), time = ref->equal("time");
   const std::vector<double> xref = gathered_positions(*ref);
   ref.reset();
+  const std::map<long, std::string> rows = forces_rows();
   // relative tolerance of the sums and absolute one of the positions [m]: bitwise on one rank,
   // about 3x the measured round-off on several (2 ranks, the example's cfl 0.5: Fc / Ft 3.1e-13 /
   // 5.3e-13 relative, positions 4.3e-17 m after 1000 steps in contact; 1.2e-17 m at cfl 0.3)
@@ -175,7 +230,7 @@ TEST(Cutting, RestartContinuesTheCut)
     auto cont = run(9000 - std::abs(split), 1);
     EXPECT_EQ(cont->lmp->update->ntimestep, 9000);
     const double fc2 = cont->equal("v_Fc"), ft2 = cont->equal("v_Ft"), work2 = cont->equal("f_cut[13]");
-    const double eint2 = cont->equal("f_sph[2]");
+    const double eint2 = cont->equal("f_sph[2]"), time2 = cont->equal("time");
     const std::vector<double> x = gathered_positions(*cont);
     ASSERT_EQ(x.size(), xref.size());
     double worst = 0.0;
@@ -194,6 +249,10 @@ TEST(Cutting, RestartContinuesTheCut)
     EXPECT_LE(fabs(work2 - work), rtol * work);
     EXPECT_LE(fabs(eint2 - eint), rtol * fabs(eint));
     EXPECT_LE(worst, xtol);
+    // the elapsed time too (issue 50: after a restart 11-12 lines differed in its 15th digit)
+    EXPECT_LE(fabs(time2 - time), rtol * time) << "time " << time2 << " / " << time;
+    cont.reset();
+    expect_same_rows(rows, forces_rows(), rtol);
   }
 }
 
@@ -223,8 +282,10 @@ TEST(Cutting, RestartContinuesThe3DCut)
   remove_periodic_restarts();
   auto ref = run(1500, 0, 500);
   const double fc = ref->equal("v_Fc"), ft = ref->equal("v_Ft"), tmax = ref->equal("v_Tmax");
+  const double time = ref->equal("time");
   const std::vector<double> xref = gathered_positions(*ref);
   ref.reset();
+  const std::map<long, std::string> rows = forces_rows();
   const double rtol = 0.0, xtol = 0.0;
   for (int split : {1000, -1000}) {
     if (split > 0)
@@ -234,6 +295,7 @@ TEST(Cutting, RestartContinuesThe3DCut)
     auto cont = run(1500 - std::abs(split), 1, 500);
     EXPECT_EQ(cont->lmp->update->ntimestep, 1500);
     const double fc2 = cont->equal("v_Fc"), ft2 = cont->equal("v_Ft"), tmax2 = cont->equal("v_Tmax");
+    const double time2 = cont->equal("time");
     const std::vector<double> x = gathered_positions(*cont);
     ASSERT_EQ(x.size(), xref.size());
     double worst = 0.0;
@@ -248,6 +310,9 @@ TEST(Cutting, RestartContinuesThe3DCut)
     EXPECT_LE(fabs(ft2 - ft), rtol * fc);
     EXPECT_LE(fabs(tmax2 - tmax), rtol * tmax);
     EXPECT_LE(worst, xtol);
+    EXPECT_EQ(time2, time);
+    cont.reset();
+    expect_same_rows(rows, forces_rows(), rtol);
   }
 }
 
