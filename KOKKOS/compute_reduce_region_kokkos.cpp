@@ -102,7 +102,7 @@ std::vector<char *> base_args(int narg, char **arg)
 
 template <class DeviceType>
 ComputeReduceRegionKokkos<DeviceType>::ComputeReduceRegionKokkos(LAMMPS *lmp, int narg, char **arg) :
-    ComputeReduceRegion(lmp, narg, base_args(narg, arg).data())
+    ComputeReduceRegion(sphcut::require_kokkos(lmp, "Compute reduce/region/kk"), narg, base_args(narg, arg).data())
 {
   delete[] style;
   style = utils::strdup(arg[2]);

@@ -269,6 +269,8 @@ int FixContactTriPenalty::parse_contact_keyword(const std::string &kw, int iarg,
 // mu table FILE: lines "T mu" (# comments), T increasing
 void FixContactTriPenalty::read_mu_table(const std::string &file)
 {
+  if (sphcut::is_directory(file))
+    error->all(FLERR, "Fix contact/tri-penalty: mu table {} is a directory, not a file", file);
   std::ifstream in(file);
   if (!in) error->all(FLERR, "Fix contact/tri-penalty: cannot open mu table {}", file);
   std::string line;

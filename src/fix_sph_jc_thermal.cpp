@@ -213,6 +213,35 @@ void FixSPHJCThermal::init()
   reset_dt();
 }
 
+/* ----------------------------------------------------------------------
+   the elapsed time of a run split in two equals that of one run, to the bit.  LAMMPS computes it
+   as update->atime + (ntimestep - atimestep) dt and folds the steps since atimestep into atime
+   when dt changes (apply_dt) and at the end of every run (Verlet::cleanup): a run split by a
+   restart file or into two run commands then adds the steps of one dt in two groups, which
+   rounds differently.  The fix keeps the time as of the last change of dt (the anchor), writes
+   it to the restart file and gives it back to LAMMPS at the setup of each run (between runs
+   LAMMPS' own folded time stands: Integrate::init expects it); a time that LAMMPS holds
+   otherwise (a timestep or reset_timestep command between runs, another fix changing dt) is
+   taken as the anchor instead.
+------------------------------------------------------------------------- */
+
+void FixSPHJCThermal::sync_time()
+{
+  const double now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
+  if (anchored && update->dt == dt_anchor && update->ntimestep >= step_anchor) {
+    const double own = time_anchor + (update->ntimestep - step_anchor) * dt_anchor;
+    if (fabs(own - now) <= 1.0e-10 * std::max(fabs(now), update->dt)) {
+      update->atime = time_anchor;
+      update->atimestep = step_anchor;
+      return;
+    }
+  }
+  time_anchor = update->atime;
+  step_anchor = update->atimestep;
+  dt_anchor = update->dt;
+  anchored = true;
+}
+
 /* ---------------------------------------------------------------------- */
 
 FixSPHJCThermal *FixSPHJCThermal::require(LAMMPS *lmp, const std::string &who, int groupbit,
@@ -571,6 +600,10 @@ void FixSPHJCThermal::apply_dt(double dtnew)
   if (dtnew == update->dt || dtnew >= 1.0e300) return;
   update->update_time();
   update->dt = dtnew;
+  time_anchor = update->atime;
+  step_anchor = update->atimestep;
+  dt_anchor = dtnew;
+  anchored = true;
   update->dt_default = 0;
   if (force->pair) force->pair->reset_dt();
   for (int i = 0; i < modify->nfix; i++) modify->fix[i]->reset_dt();
@@ -595,6 +628,7 @@ void FixSPHJCThermal::setup(int)
   reset_timers();
   // particles on top of each other move as one: warn about the initial configuration
   if (update->ntimestep == 0) check_close_pairs();
+  sync_time();
   if (cfl > 0.0) apply_dt(stable_dt());
 }
 
@@ -777,6 +811,11 @@ int FixSPHJCThermal::maxsize_restart()
   return NCOL + 1;
 }
 
+// the global record: its layout id, force_state_valid, the plastic work, the elapsed time and (where
+// the id carries TIME_ANCHOR) the time anchor and its step (sync_time); files without it (sphcut
+// before issue 50) end after the elapsed time
+static constexpr int TIME_ANCHOR = 1000000;
+
 void FixSPHJCThermal::write_restart(FILE *fp)
 {
   double total = 0.0;
@@ -784,21 +823,32 @@ void FixSPHJCThermal::write_restart(FILE *fp)
   if (comm->me == 0) {
     // the elapsed time too: LAMMPS 29Sep2021 restarts it at 0, which an adaptive dt cannot undo
     const double now = update->atime + (update->ntimestep - update->atimestep) * update->dt;
-    double list[4] = {(double) (NCOL + 1000 * LAYOUT), (double) force_state_valid, total, now};
-    int size = 4 * sizeof(double);
+    const bool anchor = anchored && update->dt == dt_anchor;
+    const double t0 = anchor ? time_anchor : now;
+    const double s0 = (double) (anchor ? step_anchor : update->ntimestep);
+    double list[6] = {(double) (NCOL + 1000 * LAYOUT + TIME_ANCHOR), (double) force_state_valid, total, now, t0, s0};
+    int size = 6 * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), 4, fp);
+    fwrite(list, sizeof(double), 6, fp);
   }
 }
 
 void FixSPHJCThermal::restart(char *buf)
 {
   const double *list = (const double *) buf;
-  if (static_cast<int>(list[0]) != NCOL + 1000 * LAYOUT)
+  int id = static_cast<int>(list[0]);
+  const bool has_anchor = id >= TIME_ANCHOR;
+  if (has_anchor) id -= TIME_ANCHOR;
+  if (id != NCOL + 1000 * LAYOUT)
     error->all(FLERR, "Fix sph/jc-thermal: restart file has state layout {}, this version {} "
-               "(written by another sphcut version)", static_cast<int>(list[0]), NCOL + 1000 * LAYOUT);
+               "(written by another sphcut version)", id, NCOL + 1000 * LAYOUT);
   force_state_valid = static_cast<int>(list[1]);
   plastic_work = comm->me == 0 ? list[2] : 0.0;
+  time_anchor = has_anchor ? list[4] : list[3];
+  step_anchor = has_anchor ? static_cast<bigint>(list[5]) : update->ntimestep;
+  dt_anchor = update->dt;
+  anchored = true;
+  // LAMMPS' own time, folded to this step (the setup then takes the anchor)
   if (update->atime == 0.0 && update->atimestep == 0) {
     update->atime = list[3];
     update->atimestep = update->ntimestep;

@@ -102,6 +102,12 @@ class FixSPHJCThermal : public Fix,
   double dtmax, dtmin;
   double thermal_cfl;         // dt <= thermal_cfl rho cp h^2 / k with a heat fix
   double plastic_work;        // accumulated plastic work (energy units), this rank
+  // the elapsed time as of the last change of dt: time_anchor at step step_anchor, dt_anchor since
+  // (sync_time); anchored: set (at the setup of a run, a change of dt or from a restart file)
+  double time_anchor = 0.0, dt_anchor = 0.0;
+  bigint step_anchor = 0;
+  bool anchored = false;
+  void sync_time();
   std::vector<sphcut::AttachedStyle *> timed;    // attached styles, this run
   struct HeatRules {                              // set_heat_rules
     const sphcut::AttachedStyle *owner = nullptr;

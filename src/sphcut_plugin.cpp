@@ -5,12 +5,19 @@
 #include "lammpsplugin.h"
 #include "version.h"
 
+#include "atom.h"
+#include "error.h"
+#include "lammps.h"
+
 #include "compute_surface_lambda.h"
 #include "dump_sph.h"
 #include "fix_contact_tri_penalty.h"
 #include "fix_heat_fmfs.h"
 #include "fix_sph_jc_thermal.h"
 #include "pair_sph_jc_thermal.h"
+
+#include <string>
+#include <utility>
 
 using namespace LAMMPS_NS;
 
@@ -38,6 +45,32 @@ void add(lammpsplugin_regfunc reg, void *lmp, void *handle, const char *style, c
   (*reg)(&plugin, lmp);
 }
 
+// A /kk atom style without -k on (a restart file written with -k on records atomic/kk): LAMMPS
+// 29Sep2021 creates it and aborts in Kokkos, "Constructing View and initializing data with
+// uninitialized execution space".  Without -k on, plugin load puts a creator that stops the input
+// with what to do in place of each such style's (one creator per style, K, to name it)
+constexpr int NKK_ATOM = 64;
+std::string kk_atom_style[NKK_ATOM];
+
+template <int K> AtomVec *refuse_kk_atom_style(LAMMPS *lmp)
+{
+  lmp->error->all(FLERR, "Atom style {} needs the KOKKOS package enabled (a restart file written with -k on "
+                  "records it): run with -k on t N, with -sf kk for the /kk styles or with run_style verlet/kk "
+                  "for the CPU styles", kk_atom_style[K]);
+  return nullptr;
+}
+
+template <int... K> void refuse_kk_atom_styles(LAMMPS *lmp, std::integer_sequence<int, K...>)
+{
+  const Atom::AtomVecCreator refuse[] = {&refuse_kk_atom_style<K>...};
+  int n = 0;
+  for (auto &style : *lmp->atom->avec_map)
+    if (style.first.find("/kk") != std::string::npos && n < NKK_ATOM) {
+      kk_atom_style[n] = style.first;
+      style.second = refuse[n++];
+    }
+}
+
 }    // namespace
 
 #ifdef SPHCUT_HAVE_KOKKOS
@@ -47,6 +80,8 @@ void sphcut_register_kokkos(lammpsplugin_regfunc reg, void *lmp, void *handle);
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
   auto reg = (lammpsplugin_regfunc) regfunc;
+  auto *lammps = (LAMMPS *) lmp;
+  if (!lammps->kokkos) refuse_kk_atom_styles(lammps, std::make_integer_sequence<int, NKK_ATOM>());
   add(reg, lmp, handle, "pair", "sph/jc-thermal",
       "sphcut " SPHCUT_VERSION ": updated-Lagrangian SPH solid, Johnson-Cook plasticity",
       (void *) &pair_creator<PairSPHJCThermal>);

@@ -17,6 +17,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <sys/stat.h>
+
 namespace sphcut {
 
 namespace {
@@ -318,12 +320,19 @@ void StlTransform::apply(const double *x, double *y) const
     y[a] = scale * (rot[3 * a] * x[0] + rot[3 * a + 1] * x[1] + rot[3 * a + 2] * x[2]) + shift[a];
 }
 
+bool is_directory(const std::string &path)
+{
+  struct stat st;
+  return stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
 /* ---------------------------------------------------------------------- */
 
 std::vector<double> read_stl(const std::string &file, const StlTransform &tf)
 {
   if (!(tf.scale > 0.0) || !std::isfinite(tf.scale))
     fail(file, "scale must be positive (got " + std::to_string(tf.scale) + ")");
+  if (is_directory(file)) fail(file, "is a directory, not a file");
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, std::string("cannot open (") + strerror(errno) + ")");
   std::ostringstream ss;

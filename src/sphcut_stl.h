@@ -61,6 +61,9 @@ struct StlTransform {
 
 std::vector<double> read_stl(const std::string &file, const StlTransform &tf = StlTransform());
 
+// path names a directory (std::ifstream opens one on Linux and reads nothing from it)
+bool is_directory(const std::string &path);
+
 /* ----------------------------------------------------------------------
    closed-surface check of a triangle mesh.  Vertices are matched exactly
    (an STL repeats the vertices of each facet with the same coordinates).

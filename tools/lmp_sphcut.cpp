@@ -61,6 +61,24 @@ static std::vector<std::string> plugins_in_path()
 }
 #endif
 
+// -sf kk (-suffix kk, or a hybrid suffix with kk) without -k on: LAMMPS 29Sep2021 creates the /kk
+// styles of its constructor (the atom and run styles) before it checks the switches, and aborts in
+// Kokkos ("Constructing View and initializing data with uninitialized execution space").  The last
+// -sf and the last -k count, as in LAMMPS
+static bool kk_suffix_without_kokkos(int argc, char **argv)
+{
+  bool kk = false, on = false;
+  for (int i = 1; i + 1 < argc; i++) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "-sf" || a == "-suffix")
+      kk = v == "kk" || (v == "hybrid" && i + 3 < argc && (std::string(argv[i + 2]) == "kk" ||
+                                                         std::string(argv[i + 3]) == "kk"));
+    else if (a == "-k" || a == "-kokkos")
+      on = v == "on";
+  }
+  return kk && !on;
+}
+
 static LAMMPS *lammps = nullptr;
 
 static void run(int argc, char **argv, MPI_Comm comm)
@@ -101,6 +119,15 @@ int main(int argc, char **argv)
   MPI_Init(&argc, &argv);
   MPI_Comm comm = MPI_COMM_WORLD;
   int rc = 0;
+  if (kk_suffix_without_kokkos(argc, argv)) {
+    int me;
+    MPI_Comm_rank(comm, &me);
+    if (me == 0)
+      printf("ERROR: -sf kk selects the /kk styles, which need the KOKKOS package enabled: add -k on t N "
+             "(N host threads) or -k on g N (N GPUs), or leave out -sf kk for the CPU styles\n");
+    MPI_Finalize();
+    return 1;
+  }
 #if defined(SPHCUT_EXCEPTIONS)
   try {
     run(argc, argv, comm);

@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/stat.h>
+
 using sphcut_test::Lammps;
 using sphcut_test::box_triangles;
 using sphcut_test::prism;
@@ -318,6 +320,9 @@ TEST(Sliding, MuOfTemperature)
   std::ofstream("mu_bad.txt") << "300 0.2\n250 0.3\n";
   EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl mu table mu_bad.txt",
                                "mu table mu_bad.txt: temperatures must increase"));
+  mkdir("mu_folder", 0755);
+  EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl mu table mu_folder",
+                               "mu table mu_folder is a directory, not a file"));
   EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl mu v_mu", "needs 'tvar NAME'"));
 }
 
@@ -781,6 +786,7 @@ TEST(StlErrors, ThroughTheFix)
       data.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     }
     std::ofstream("truncated.stl", std::ios::binary).write(data.data(), (std::streamsize) data.size() - 20);
+    mkdir("folder.stl", 0755);    // a directory under a file's name (refused as "empty file" before)
   }
   for (int dim : {3, 2}) {
     Lammps l;
@@ -790,6 +796,7 @@ TEST(StlErrors, ThroughTheFix)
     EXPECT_TRUE(l.error_contains(fix + "malformed.stl", "STL file 'malformed.stl': line 3: expected 'loop', got 'lop'"));
     EXPECT_TRUE(l.error_contains(fix + "empty.stl", "STL file 'empty.stl': empty file"));
     EXPECT_TRUE(l.error_contains(fix + "nosuch.stl", "STL file 'nosuch.stl': cannot open"));
+    EXPECT_TRUE(l.error_contains(fix + "folder.stl", "STL file 'folder.stl': is a directory, not a file"));
     EXPECT_TRUE(l.error_contains(fix + "flipped.stl", "facet 0: stored normal (0 0 -1) disagrees with its vertex winding"));
     EXPECT_TRUE(l.error_contains(fix + "truncated.stl", "STL file 'truncated.stl'"));
     EXPECT_TRUE(l.error_contains(fix + "sheet.stl", "STL file 'sheet.stl': the mesh is not closed: 4 edge(s) "

@@ -406,6 +406,54 @@ TEST(Kokkos, EnergyBalanceAsOnTheCpu)
   EXPECT_NEAR(drift_kk, drift_cpu, 1e-10);
 }
 
+// issue 50: the /kk styles and what -k on records, without -k on.  compute reduce/region/kk stops
+// at its definition (it crashed at the run's setup, in AtomKokkos::sync); a restart file written
+// with -k on (atom style atomic/kk) read without it stops naming the atom style (LAMMPS aborted in
+// Kokkos: "Constructing View and initializing data with uninitialized execution space")
+TEST(Kokkos, WithoutKokkosEnabled)
+{
+  {
+    Lammps l(MPI_COMM_WORLD, {});
+    l.cmds(collision("off"));
+    l.cmd("region rr block -1e-3 1e-3 0 2e-3 INF INF units box");
+    EXPECT_TRUE(l.error_contains("compute r all reduce/region/kk rr ave f_sph[12]",
+                                 "Compute reduce/region/kk needs the KOKKOS package enabled"));
+  }
+  {
+    Lammps l(MPI_COMM_WORLD, KK_FULL);
+    l.cmds(collision("off"));
+    l.cmds({"run 10", "write_restart kk-written.restart"});
+  }
+  Lammps l(MPI_COMM_WORLD, {});
+  EXPECT_TRUE(l.error_contains("read_restart kk-written.restart",
+                               "Atom style atomic/kk needs the KOKKOS package enabled (a restart file written "
+                               "with -k on records it): run with -k on t N"));
+}
+
+// the way doc/fix_sph_jc_thermal.rst gives to continue a /kk run's restart file with the CPU styles,
+// -k on t 1 without -sf kk, runs the cutting example (-var continue 1): its input sets run_style
+// verlet/kk under -k on (LAMMPS stopped with "KOKKOS package requires run_style verlet/kk")
+TEST(Kokkos, ExampleContinuesWithTheCpuStyles)
+{
+  const std::string in = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
+  auto run = [&](const std::vector<std::string> &args, int cont) {
+    auto l = std::make_unique<Lammps>(MPI_COMM_WORLD, args);
+    l->cmds({"variable ny index 11", "variable dumpevery index 0", "variable xstart index 0.6",
+             "variable steps index 100", "variable continue index " + std::to_string(cont)});
+    l->lmp->input->file(in.c_str());
+    return l;
+  };
+  run({"-k", "on", "t", "1", "-sf", "kk"}, 0).reset();
+  auto l = run({"-k", "on", "t", "1"}, 1);
+  EXPECT_EQ(l->lmp->update->ntimestep, 200);
+  EXPECT_STREQ(l->lmp->force->pair_style, "sph/jc-thermal");
+  EXPECT_EQ(l->lmp->modify->fix[l->lmp->modify->find_fix("sph")]->kokkosable, 0);
+  // the tool moved at the cutting speed through both parts (f_cut[8]: its displacement in x)
+  const double v = 318.5 / 60.0, t = l->equal("time");
+  EXPECT_GT(t, 0.0);
+  EXPECT_NEAR(-l->equal("f_cut[8]"), v * t, 1e-9 * v * t);
+}
+
 TEST(Kokkos, ClearErrors)
 {
   {
