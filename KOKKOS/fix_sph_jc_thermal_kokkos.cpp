@@ -421,20 +421,19 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
   // variables may read stays synchronised to the host before them (datamask_read)
   if (output_sync)
-    for (int i = 0; i < modify->nfix; i++)
-      if (!modify->fix[i]->kokkosable && (utils::strmatch(modify->fix[i]->style, "^print$") ||
-                                          utils::strmatch(modify->fix[i]->style, "^halt$")))
-        modify->fix[i]->datamask_modify = EMPTY_MASK;
+    for (auto *f : sphcut::fix_list(modify))
+      if (!f->kokkosable && (utils::strmatch(f->style, "^print$") || utils::strmatch(f->style, "^halt$")))
+        f->datamask_modify = EMPTY_MASK;
   // the other sphcut styles (those that attach to this fix) read and write the state: under /kk
   // only their /kk variants do that on the device (a CPU variant would read a stale host copy)
-  for (int i = 0; i < modify->nfix; i++)
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i]) && !modify->fix[i]->kokkosable)
+  for (auto *f : sphcut::fix_list(modify))
+    if (dynamic_cast<sphcut::AttachedStyle *>(f) && !f->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: fix {} {} is the CPU style; use its /kk variant "
-                 "(-sf kk, or the style name with /kk)", modify->fix[i]->id, modify->fix[i]->style);
-  for (int i = 0; i < modify->ncompute; i++)
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->compute[i]) && !modify->compute[i]->kokkosable)
+                 "(-sf kk, or the style name with /kk)", f->id, f->style);
+  for (auto *c : sphcut::compute_list(modify))
+    if (dynamic_cast<sphcut::AttachedStyle *>(c) && !c->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: compute {} {} is the CPU style; use its /kk variant "
-                 "(-sf kk, or the style name with /kk)", modify->compute[i]->id, modify->compute[i]->style);
+                 "(-sf kk, or the style name with /kk)", c->id, c->style);
   // the state comes to the host every peratom_every steps and on output steps (thermo, dumps);
   // LAMMPS refuses consumers of f_ID per-atom values at other steps.  By default the greatest
   // common divisor of the thermo and dump intervals (every step without either): each dump
@@ -854,12 +853,12 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::fuse_allowed
   fuse_watch.clear();
   if (!utils::strmatch(update->integrate_style, "^verlet") || utils::strmatch(update->integrate_style, "^verlet/split"))
     return false;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == this) continue;
-    const int m = modify->fmask[i];
-    auto *st = dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i]);
+  for (auto *f : sphcut::fix_list(modify)) {
+    if (f == this) continue;
+    const int m = sphcut::fix_mask(modify, f);
+    auto *st = dynamic_cast<sphcut::AttachedStyle *>(f);
     if (!st && (m & (FixConst::INITIAL_INTEGRATE | FixConst::FINAL_INTEGRATE))) return false;
-    if ((m & FixConst::END_OF_STEP) && (!st || st->end_of_step_reads_particles())) fuse_watch.push_back(modify->fix[i]);
+    if ((m & FixConst::END_OF_STEP) && (!st || st->end_of_step_reads_particles())) fuse_watch.push_back(f);
   }
   return true;
 }
@@ -871,13 +870,14 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::fuse_allowed
 template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::others_keep_out(bool before_only) const
 {
   int self = -1;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == this) {
+  const auto fixes = sphcut::fix_list(modify);
+  for (int i = 0; i < (int) fixes.size(); i++) {
+    if (fixes[i] == this) {
       self = i;
       continue;
     }
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) continue;
-    const int m = modify->fmask[i];
+    if (dynamic_cast<sphcut::AttachedStyle *>(fixes[i])) continue;
+    const int m = sphcut::fix_mask(modify, fixes[i]);
     if ((m & FixConst::POST_INTEGRATE) || ((m & FixConst::PRE_FORCE) && (!before_only || self < 0)) ||
         ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
       return false;
@@ -978,7 +978,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
   if (remap && !grow_callback) {
     // between runs the rows follow by index again.  Atom::add_callback only registers the fix
     // being constructed, so the callback goes back into Atom's list here as it would there.
-    const int ifix = modify->find_fix(id);
+    const int ifix = sphcut::fix_index(modify, this);
     if (atom->nextra_grow == atom->nextra_grow_max) {
       atom->nextra_grow_max += 1;
       memory->grow(atom->extra_grow, atom->nextra_grow_max, "atom:extra_grow");
