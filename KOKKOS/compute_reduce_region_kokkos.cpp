@@ -53,7 +53,7 @@ template <class DeviceType, class Values> struct RegionReduce {
     } else
       v += q;
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type &a, const volatile value_type &b) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type &a, const SPHCUT_KK_VOLATILE value_type &b) const
   {
     fold(a.v, b.v);
     a.n += b.n;

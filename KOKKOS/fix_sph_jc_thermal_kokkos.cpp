@@ -184,7 +184,7 @@ template <class DeviceType> struct SecondHalf {
     sphcut::sum_min_init(&r[WORK]);
     sphcut::sum_min_init(&r[QDIR]);
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const
   {
     sphcut::sum_min_join(&d[WORK], &s[WORK]);
     sphcut::sum_min_join(&d[QDIR], &s[QDIR]);
@@ -252,7 +252,7 @@ template <class DeviceType> struct CorrectThenFirstHalf {
   SecondHalf<DeviceType> c;
   FirstHalf<DeviceType> p;
   KOKKOS_INLINE_FUNCTION void init(value_type r) const { c.init(r); }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const { c.join(d, s); }
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const { c.join(d, s); }
   KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return SecondHalf<DeviceType>::is_min(k); }
   KOKKOS_INLINE_FUNCTION void final(value_type r) const { c.final(r); }
   KOKKOS_INLINE_FUNCTION void row(const int i, double *s, value_type r) const
@@ -699,34 +699,18 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   sphcut::forward_comm(comm, this);
 }
 
-#ifdef SPHCUT_KK_API_2026
 template <class DeviceType>
-int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
-                                                                DAT::tdual_double_1d &k_buf, int, int *)
+int FixSPHJCThermalKokkos<DeviceType>::SPHCUT_KK_FIX_PACK_FORWARD(int n, SPHCUT_KK_SENDLIST(k_sendlist, iswap),
+    sphcut::kk_buf &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, 0, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, SPHCUT_KK_ISWAP(iswap), k_buf);
 }
 
 template <class DeviceType>
-void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+void FixSPHJCThermalKokkos<DeviceType>::SPHCUT_KK_FIX_UNPACK_FORWARD(int n, int first, sphcut::kk_buf &k_buf)
 {
   sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
 }
-#else
-template <class DeviceType>
-int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist,
-                                                                     int iswap, DAT::tdual_xfloat_1d &k_buf,
-                                                                     int, int *)
-{
-  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, iswap, k_buf);
-}
-
-template <class DeviceType>
-void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
-{
-  sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
-}
-#endif
 
 /* ---------------------------------------------------------------------- */
 
