@@ -18,6 +18,7 @@
 #include "update.h"
 #include "utils.h"
 
+#include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
 
 using namespace LAMMPS_NS;
@@ -52,7 +53,7 @@ template <class DeviceType, class Values> struct RegionReduce {
     } else
       v += q;
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type &a, const volatile value_type &b) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type &a, const SPHCUT_KK_VOLATILE value_type &b) const
   {
     fold(a.v, b.v);
     a.n += b.n;
@@ -84,7 +85,7 @@ template <class DeviceType, class Values> struct RegionReduce {
 #define SPHCUT_REDUCE_WHICH(m) which[m]
 #define SPHCUT_REDUCE_ARGINDEX(m) argindex[m]
 #define SPHCUT_REDUCE_PERATOM(m) (flavor[m] == PERATOM)
-#define SPHCUT_REDUCE_FIX(m) modify->fix[value2index[m]]
+#define SPHCUT_REDUCE_FIX(m) sphcut::fix_by_index(modify, value2index[m])
 #define SPHCUT_REDUCE_REGION domain->regions[iregion]
 #endif
 

@@ -124,7 +124,7 @@ template <class DeviceType> struct ContactKernel {
   int use_near;
 
   KOKKOS_INLINE_FUNCTION void init(value_type &dtcrit) const { dtcrit = 1.0e300; }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type &d, const volatile value_type &s) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type &d, const SPHCUT_KK_VOLATILE value_type &s) const
   {
     if (s < d) d = s;
   }
@@ -352,7 +352,7 @@ template <class DeviceType> struct RecordKernel {
   {
     for (int k = 0; k < NV; k++) r[k] = 0.0;
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const
   {
     for (int k = 0; k < V_MAXPEN; k++) d[k] += s[k];
     if (s[V_MAXPEN] > d[V_MAXPEN]) d[V_MAXPEN] = s[V_MAXPEN];
@@ -839,35 +839,18 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_ve
 
 /* ---------------------------------------------------------------------- */
 
-#ifdef SPHCUT_KK_API_2026
 template <class DeviceType>
-int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
-                                                                     DAT::tdual_double_1d &k_buf, int, int *)
+int FixContactTriPenaltyKokkos<DeviceType>::SPHCUT_KK_FIX_PACK_FORWARD(int n, SPHCUT_KK_SENDLIST(k_sendlist, iswap),
+    sphcut::kk_buf &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_qtw, 0, 1, n, k_sendlist, 0, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_qtw, 0, 1, n, k_sendlist, SPHCUT_KK_ISWAP(iswap), k_buf);
 }
 
 template <class DeviceType>
-void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+void FixContactTriPenaltyKokkos<DeviceType>::SPHCUT_KK_FIX_UNPACK_FORWARD(int n, int first, sphcut::kk_buf &k_buf)
 {
   sphcut::unpack_columns<DeviceType>(k_qtw, 0, 1, n, first, k_buf);
 }
-#else
-template <class DeviceType>
-int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist,
-                                                                          int iswap, DAT::tdual_xfloat_1d &k_buf,
-                                                                          int, int *)
-{
-  return sphcut::pack_columns<DeviceType>(k_qtw, 0, 1, n, k_sendlist, iswap, k_buf);
-}
-
-template <class DeviceType>
-void FixContactTriPenaltyKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first,
-                                                                             DAT::tdual_xfloat_1d &k_buf)
-{
-  sphcut::unpack_columns<DeviceType>(k_qtw, 0, 1, n, first, k_buf);
-}
-#endif
 
 template <class DeviceType>
 int FixContactTriPenaltyKokkos<DeviceType>::pack_forward_comm(int n, int *list_, double *buf, int, int *)

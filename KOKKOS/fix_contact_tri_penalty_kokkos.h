@@ -66,13 +66,8 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   void write_restart(FILE *) override;
   double dt_limit(double, double) const override { return 1.0e300; }    // in its slot (dt_slot), on the device
   int dt_limit_on_device() const override { return 1; }
-#ifdef SPHCUT_KK_API_2026
-  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
-  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
-#else
-  int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
-  void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
-#endif
+  int SPHCUT_KK_FIX_PACK_FORWARD(int, SPHCUT_KK_SENDLIST(, ), sphcut::kk_buf &, int, int *) override;
+  void SPHCUT_KK_FIX_UNPACK_FORWARD(int, int, sphcut::kk_buf &) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   // "near": the number of particles the contact kernel evaluated last (int, dim 0; -1 before any)

@@ -76,7 +76,7 @@ template <class DeviceType, int N, class Body, class Fin> struct FinalSums {
   {
     for (int k = 0; k < N; k++) r[k] = 0.0;
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const
   {
     for (int k = 0; k < N; k++) d[k] += s[k];
   }
@@ -610,33 +610,18 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
 
 /* ---------------------------------------------------------------------- */
 
-#ifdef SPHCUT_KK_API_2026
 template <class DeviceType>
-int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
-                                                            DAT::tdual_double_1d &k_buf, int, int *)
+int FixHeatFMFSKokkos<DeviceType>::SPHCUT_KK_FIX_PACK_FORWARD(int n, SPHCUT_KK_SENDLIST(k_sendlist, iswap),
+    sphcut::kk_buf &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_fwts, FW0, NW, n, k_sendlist, 0, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_fwts, FW0, NW, n, k_sendlist, SPHCUT_KK_ISWAP(iswap), k_buf);
 }
 
 template <class DeviceType>
-void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+void FixHeatFMFSKokkos<DeviceType>::SPHCUT_KK_FIX_UNPACK_FORWARD(int n, int first, sphcut::kk_buf &k_buf)
 {
   sphcut::unpack_columns<DeviceType>(k_fwts, FW0, NW, n, first, k_buf);
 }
-#else
-template <class DeviceType>
-int FixHeatFMFSKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
-                                                                 DAT::tdual_xfloat_1d &k_buf, int, int *)
-{
-  return sphcut::pack_columns<DeviceType>(k_fwts, FW0, NW, n, k_sendlist, iswap, k_buf);
-}
-
-template <class DeviceType>
-void FixHeatFMFSKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
-{
-  sphcut::unpack_columns<DeviceType>(k_fwts, FW0, NW, n, first, k_buf);
-}
-#endif
 
 // the classic (host) path of the forward communication
 template <class DeviceType>

@@ -184,7 +184,7 @@ template <class DeviceType> struct SecondHalf {
     sphcut::sum_min_init(&r[WORK]);
     sphcut::sum_min_init(&r[QDIR]);
   }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const
   {
     sphcut::sum_min_join(&d[WORK], &s[WORK]);
     sphcut::sum_min_join(&d[QDIR], &s[QDIR]);
@@ -252,7 +252,7 @@ template <class DeviceType> struct CorrectThenFirstHalf {
   SecondHalf<DeviceType> c;
   FirstHalf<DeviceType> p;
   KOKKOS_INLINE_FUNCTION void init(value_type r) const { c.init(r); }
-  KOKKOS_INLINE_FUNCTION void join(volatile value_type d, const volatile value_type s) const { c.join(d, s); }
+  KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const { c.join(d, s); }
   KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return SecondHalf<DeviceType>::is_min(k); }
   KOKKOS_INLINE_FUNCTION void final(value_type r) const { c.final(r); }
   KOKKOS_INLINE_FUNCTION void row(const int i, double *s, value_type r) const
@@ -421,20 +421,19 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
   // variables may read stays synchronised to the host before them (datamask_read)
   if (output_sync)
-    for (int i = 0; i < modify->nfix; i++)
-      if (!modify->fix[i]->kokkosable && (utils::strmatch(modify->fix[i]->style, "^print$") ||
-                                          utils::strmatch(modify->fix[i]->style, "^halt$")))
-        modify->fix[i]->datamask_modify = EMPTY_MASK;
+    for (auto *f : sphcut::fix_list(modify))
+      if (!f->kokkosable && (utils::strmatch(f->style, "^print$") || utils::strmatch(f->style, "^halt$")))
+        f->datamask_modify = EMPTY_MASK;
   // the other sphcut styles (those that attach to this fix) read and write the state: under /kk
   // only their /kk variants do that on the device (a CPU variant would read a stale host copy)
-  for (int i = 0; i < modify->nfix; i++)
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i]) && !modify->fix[i]->kokkosable)
+  for (auto *f : sphcut::fix_list(modify))
+    if (dynamic_cast<sphcut::AttachedStyle *>(f) && !f->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: fix {} {} is the CPU style; use its /kk variant "
-                 "(-sf kk, or the style name with /kk)", modify->fix[i]->id, modify->fix[i]->style);
-  for (int i = 0; i < modify->ncompute; i++)
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->compute[i]) && !modify->compute[i]->kokkosable)
+                 "(-sf kk, or the style name with /kk)", f->id, f->style);
+  for (auto *c : sphcut::compute_list(modify))
+    if (dynamic_cast<sphcut::AttachedStyle *>(c) && !c->kokkosable)
       error->all(FLERR, "Fix sph/jc-thermal/kk: compute {} {} is the CPU style; use its /kk variant "
-                 "(-sf kk, or the style name with /kk)", modify->compute[i]->id, modify->compute[i]->style);
+                 "(-sf kk, or the style name with /kk)", c->id, c->style);
   // the state comes to the host every peratom_every steps and on output steps (thermo, dumps);
   // LAMMPS refuses consumers of f_ID per-atom values at other steps.  By default the greatest
   // common divisor of the thermo and dump intervals (every step without either): each dump
@@ -700,34 +699,18 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::pre_force(in
   sphcut::forward_comm(comm, this);
 }
 
-#ifdef SPHCUT_KK_API_2026
 template <class DeviceType>
-int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
-                                                                DAT::tdual_double_1d &k_buf, int, int *)
+int FixSPHJCThermalKokkos<DeviceType>::SPHCUT_KK_FIX_PACK_FORWARD(int n, SPHCUT_KK_SENDLIST(k_sendlist, iswap),
+    sphcut::kk_buf &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, 0, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, SPHCUT_KK_ISWAP(iswap), k_buf);
 }
 
 template <class DeviceType>
-void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+void FixSPHJCThermalKokkos<DeviceType>::SPHCUT_KK_FIX_UNPACK_FORWARD(int n, int first, sphcut::kk_buf &k_buf)
 {
   sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
 }
-#else
-template <class DeviceType>
-int FixSPHJCThermalKokkos<DeviceType>::pack_forward_comm_fix_kokkos(int n, DAT::tdual_int_2d k_sendlist,
-                                                                     int iswap, DAT::tdual_xfloat_1d &k_buf,
-                                                                     int, int *)
-{
-  return sphcut::pack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, k_sendlist, iswap, k_buf);
-}
-
-template <class DeviceType>
-void FixSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_fix_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
-{
-  sphcut::unpack_columns<DeviceType>(k_state, FORWARD_FIRST, NFORWARD, n, first, k_buf);
-}
-#endif
 
 /* ---------------------------------------------------------------------- */
 
@@ -854,12 +837,12 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::fuse_allowed
   fuse_watch.clear();
   if (!utils::strmatch(update->integrate_style, "^verlet") || utils::strmatch(update->integrate_style, "^verlet/split"))
     return false;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == this) continue;
-    const int m = modify->fmask[i];
-    auto *st = dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i]);
+  for (auto *f : sphcut::fix_list(modify)) {
+    if (f == this) continue;
+    const int m = sphcut::fix_mask(modify, f);
+    auto *st = dynamic_cast<sphcut::AttachedStyle *>(f);
     if (!st && (m & (FixConst::INITIAL_INTEGRATE | FixConst::FINAL_INTEGRATE))) return false;
-    if ((m & FixConst::END_OF_STEP) && (!st || st->end_of_step_reads_particles())) fuse_watch.push_back(modify->fix[i]);
+    if ((m & FixConst::END_OF_STEP) && (!st || st->end_of_step_reads_particles())) fuse_watch.push_back(f);
   }
   return true;
 }
@@ -871,13 +854,14 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::fuse_allowed
 template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::others_keep_out(bool before_only) const
 {
   int self = -1;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == this) {
+  const auto fixes = sphcut::fix_list(modify);
+  for (int i = 0; i < (int) fixes.size(); i++) {
+    if (fixes[i] == this) {
       self = i;
       continue;
     }
-    if (dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) continue;
-    const int m = modify->fmask[i];
+    if (dynamic_cast<sphcut::AttachedStyle *>(fixes[i])) continue;
+    const int m = sphcut::fix_mask(modify, fixes[i]);
     if ((m & FixConst::POST_INTEGRATE) || ((m & FixConst::PRE_FORCE) && (!before_only || self < 0)) ||
         ((m & FixConst::INITIAL_INTEGRATE) && self >= 0))
       return false;
@@ -978,7 +962,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::post_run()
   if (remap && !grow_callback) {
     // between runs the rows follow by index again.  Atom::add_callback only registers the fix
     // being constructed, so the callback goes back into Atom's list here as it would there.
-    const int ifix = modify->find_fix(id);
+    const int ifix = sphcut::fix_index(modify, this);
     if (atom->nextra_grow == atom->nextra_grow_max) {
       atom->nextra_grow_max += 1;
       memory->grow(atom->extra_grow, atom->nextra_grow_max, "atom:extra_grow");

@@ -120,13 +120,8 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void unpack_restart(int, int) override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
-#ifdef SPHCUT_KK_API_2026
-  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
-  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
-#else
-  int pack_forward_comm_fix_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
-  void unpack_forward_comm_fix_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
-#endif
+  int SPHCUT_KK_FIX_PACK_FORWARD(int, SPHCUT_KK_SENDLIST(, ), sphcut::kk_buf &, int, int *) override;
+  void SPHCUT_KK_FIX_UNPACK_FORWARD(int, int, sphcut::kk_buf &) override;
 
   double stable_dt() override;
   std::string timing_note() const override

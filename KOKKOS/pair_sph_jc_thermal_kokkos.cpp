@@ -533,33 +533,18 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::unpack_forw
   stage_lgrad.unpack(k_lgrad, 0, 9, n, first, buf);
 }
 
-#ifdef SPHCUT_KK_API_2026
 template <class DeviceType>
-int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_1d k_sendlist,
-                                                                 DAT::tdual_double_1d &k_buf, int, int *)
+int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, SPHCUT_KK_SENDLIST(k_sendlist, iswap),
+    sphcut::kk_buf &k_buf, int, int *)
 {
-  return sphcut::pack_columns<DeviceType>(k_lgrad, 0, 9, n, k_sendlist, 0, k_buf);
+  return sphcut::pack_columns<DeviceType>(k_lgrad, 0, 9, n, k_sendlist, SPHCUT_KK_ISWAP(iswap), k_buf);
 }
 
 template <class DeviceType>
-void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_double_1d &k_buf)
+void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, sphcut::kk_buf &k_buf)
 {
   sphcut::unpack_columns<DeviceType>(k_lgrad, 0, 9, n, first, k_buf);
 }
-#else
-template <class DeviceType>
-int PairSPHJCThermalKokkos<DeviceType>::pack_forward_comm_kokkos(int n, DAT::tdual_int_2d k_sendlist, int iswap,
-                                                                 DAT::tdual_xfloat_1d &k_buf, int, int *)
-{
-  return sphcut::pack_columns<DeviceType>(k_lgrad, 0, 9, n, k_sendlist, iswap, k_buf);
-}
-
-template <class DeviceType>
-void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int first, DAT::tdual_xfloat_1d &k_buf)
-{
-  sphcut::unpack_columns<DeviceType>(k_lgrad, 0, 9, n, first, k_buf);
-}
-#endif
 
 // per particle after the half-list sums: the rates
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(int nlocal)

@@ -76,13 +76,8 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // path LAMMPS takes here) or on the device
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
-#ifdef SPHCUT_KK_API_2026
-  int pack_forward_comm_kokkos(int, DAT::tdual_int_1d, DAT::tdual_double_1d &, int, int *) override;
-  void unpack_forward_comm_kokkos(int, int, DAT::tdual_double_1d &) override;
-#else
-  int pack_forward_comm_kokkos(int, DAT::tdual_int_2d, int, DAT::tdual_xfloat_1d &, int, int *) override;
-  void unpack_forward_comm_kokkos(int, int, DAT::tdual_xfloat_1d &) override;
-#endif
+  int pack_forward_comm_kokkos(int, SPHCUT_KK_SENDLIST(, ), sphcut::kk_buf &, int, int *) override;
+  void unpack_forward_comm_kokkos(int, int, sphcut::kk_buf &) override;
   double memory_usage() override;
 
   // the passes (public: they launch device lambdas); stress_pass packs the rows first .. nall - 1

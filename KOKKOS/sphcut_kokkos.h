@@ -23,35 +23,80 @@
 #include <type_traits>
 #include <vector>
 
-// The KOKKOS API of LAMMPS changed between the two versions the /kk styles compile against:
-//   29Sep2021 (Kokkos 3.4, built and run): forward communication of fixes through
-//     pack_forward_comm_fix_kokkos, of pairs through pack_forward_comm_kokkos, with a 2D send
-//     list (swap, i) and a buffer of type DAT::tdual_xfloat_1d; atom views t_x_array,
-//     t_v_array, t_f_array, t_float_1d; NeighRequest flags set directly.
-//   4Jul2026 (Kokkos 5.2, compile-checked only: tools/compat-check.sh --kokkos): one
-//     KokkosBase::pack_forward_comm_kokkos for fixes and pairs, the send list of the swap (1D)
-//     and a DAT::tdual_double_1d buffer; atom views t_kkfloat_1d_3_lr (x), t_kkfloat_1d_3 (v),
+// The KOKKOS API of LAMMPS changed between the three versions the /kk styles compile against:
+// 29Sep2021 (Kokkos 3.4, built and run), 4Feb2025 (Kokkos 4.5) and 4Jul2026 (Kokkos 5.2; both
+// compile-checked only, tools/compat-check.sh).  One switch per change, each set from the first
+// of these versions that has it (the versions in between were not checked):
+//   SPHCUT_KK_SENDLIST_1D (4Feb2025, 4Jul2026): the forward communication's pack functions get
+//     the send list of the swap (DAT::tdual_int_1d), not the 2D list (swap, i) and the swap
+//   SPHCUT_KK_FORWARD_UNIFIED (4Jul2026): fixes pack and unpack through KokkosBase's
+//     pack_/unpack_forward_comm_kokkos, as pairs do, not pack_/unpack_forward_comm_fix_kokkos
+//   SPHCUT_KK_BUF_DOUBLE (4Jul2026): the communication buffer is a DAT::tdual_double_1d, not a
+//     DAT::tdual_xfloat_1d (another type where the device layout is LayoutLeft, CUDA)
+//   SPHCUT_KK_VIEW_TYPES_2026 (4Jul2026): atom views t_kkfloat_1d_3_lr (x), t_kkfloat_1d_3 (v),
 //     t_kkacc_1d_3 (f), t_kkfloat_1d (masses) (double unless LAMMPS is built for single
-//     precision); NeighRequest::set_kokkos_host/device and enable_full.
-// The versions in between were not checked.
+//     precision), not t_x_array, t_v_array, t_f_array, t_float_1d
+//   neighbour requests: NeighRequest::set_kokkos_host/device and enable_full from 24Mar2022
+//     (kokkos_list below), not its members set directly
+#if SPHCUT_LAMMPS_VERSION >= 20250204
+#define SPHCUT_KK_SENDLIST_1D 1
+#endif
 #if SPHCUT_LAMMPS_VERSION >= 20260704
-#define SPHCUT_KK_API_2026 1
+#define SPHCUT_KK_FORWARD_UNIFIED 1
+#define SPHCUT_KK_BUF_DOUBLE 1
+#define SPHCUT_KK_VIEW_TYPES_2026 1
+#endif
+
+// A reducer's join(): Kokkos 3.4 calls it on volatile values; Kokkos 4 on plain ones, and 4.5
+// refuses a reducer whose join takes only volatile ones (a static_assert).  Checked: Kokkos 3.4
+// (built), 4.5 and 5.2 (compile check); the switch is at 4.0, where volatile joins were deprecated
+#if KOKKOS_VERSION >= 40000
+#define SPHCUT_KK_VOLATILE
+#else
+#define SPHCUT_KK_VOLATILE volatile
 #endif
 
 namespace sphcut {
 
-#ifdef SPHCUT_KK_API_2026
+#ifdef SPHCUT_KK_BUF_DOUBLE
 typedef ::DAT::tdual_double_1d kk_buf;         // forward communication buffer
-typedef ::DAT::tdual_int_1d kk_sendlist;       // send list of one swap
 #else
 typedef ::DAT::tdual_xfloat_1d kk_buf;
+#endif
+#ifdef SPHCUT_KK_SENDLIST_1D
+typedef ::DAT::tdual_int_1d kk_sendlist;       // send list of one swap
+#else
 typedef ::DAT::tdual_int_2d kk_sendlist;       // (swap, i)
 #endif
+
+}    // namespace sphcut
+
+// The forward communication overrides on the device, declared and defined once for all versions:
+//   int SPHCUT_KK_FIX_PACK_FORWARD(int n, SPHCUT_KK_SENDLIST(list, iswap), sphcut::kk_buf &buf,
+//                                  int pbc_flag, int *pbc)   (a pair: pack_forward_comm_kokkos)
+//   void SPHCUT_KK_FIX_UNPACK_FORWARD(int n, int first, sphcut::kk_buf &buf)
+// where the body passes SPHCUT_KK_ISWAP(iswap) on to sphcut::pack_columns
+#ifdef SPHCUT_KK_FORWARD_UNIFIED
+#define SPHCUT_KK_FIX_PACK_FORWARD pack_forward_comm_kokkos
+#define SPHCUT_KK_FIX_UNPACK_FORWARD unpack_forward_comm_kokkos
+#else
+#define SPHCUT_KK_FIX_PACK_FORWARD pack_forward_comm_fix_kokkos
+#define SPHCUT_KK_FIX_UNPACK_FORWARD unpack_forward_comm_fix_kokkos
+#endif
+#ifdef SPHCUT_KK_SENDLIST_1D
+#define SPHCUT_KK_SENDLIST(list, iswap) sphcut::kk_sendlist list
+#define SPHCUT_KK_ISWAP(iswap) 0
+#else
+#define SPHCUT_KK_SENDLIST(list, iswap) sphcut::kk_sendlist list, int iswap
+#define SPHCUT_KK_ISWAP(iswap) iswap
+#endif
+
+namespace sphcut {
 
 // the view types of the atom arrays the /kk kernels read and write
 template <class DeviceType> struct AtomTypes {
   typedef ArrayTypes<DeviceType> AT;
-#ifdef SPHCUT_KK_API_2026
+#ifdef SPHCUT_KK_VIEW_TYPES_2026
   typedef typename AT::t_kkfloat_1d_3_lr x;
   typedef typename AT::t_kkfloat_1d_3_lr_const x_const;
   typedef typename AT::t_kkfloat_1d_3 v;
@@ -355,7 +400,7 @@ int pack_columns(::DAT::tdual_double_2d &k, int col0, int ncol, int n, kk_sendli
   auto v = k.template view<DeviceType>();
   Kokkos::parallel_for(
       "sphcut:pack_columns", range<DeviceType>(0, n), KOKKOS_LAMBDA(const int ii) {
-#ifdef SPHCUT_KK_API_2026
+#ifdef SPHCUT_KK_SENDLIST_1D
         const int j = list(ii);
 #else
         const int j = list(iswap, ii);

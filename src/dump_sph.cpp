@@ -28,6 +28,7 @@
 #include "utils.h"
 
 #include "sphcut_checks.h"
+#include "sphcut_compat.h"
 
 #include <cstring>
 #include <map>
@@ -94,14 +95,12 @@ void DumpSPH::command(int narg, char **arg)
   const char *srcstyle[3] = {"sph/jc-thermal", "surface/lambda", "contact/tri-penalty"};
   std::string srcid[3];
   int srcn[3] = {0, 0, 0};
-  for (int i = 0; i < modify->nfix; i++) {
-    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal") && !srcn[0]++) srcid[0] = modify->fix[i]->id;
-    if (utils::strmatch(modify->fix[i]->style, "^contact/tri-penalty") && !srcn[2]++)
-      srcid[2] = modify->fix[i]->id;
+  for (auto *f : sphcut::fix_list(modify)) {
+    if (utils::strmatch(f->style, "^sph/jc-thermal") && !srcn[0]++) srcid[0] = f->id;
+    if (utils::strmatch(f->style, "^contact/tri-penalty") && !srcn[2]++) srcid[2] = f->id;
   }
-  for (int i = 0; i < modify->ncompute; i++)
-    if (utils::strmatch(modify->compute[i]->style, "^surface/lambda") && !srcn[1]++)
-      srcid[1] = modify->compute[i]->id;
+  for (auto *c : sphcut::compute_list(modify))
+    if (utils::strmatch(c->style, "^surface/lambda") && !srcn[1]++) srcid[1] = c->id;
 
   std::vector<std::string> words = {arg[0], arg[1], "custom", arg[2], arg[3]};
   std::vector<std::pair<int, std::string>> rename;    // column (1-based) -> sphcut name

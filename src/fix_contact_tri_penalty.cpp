@@ -458,20 +458,20 @@ void FixContactTriPenalty::init()
 {
   // one contact fix: the per-atom contact columns of fix sph/jc-thermal (force, feature, friction
   // memory) and the contact's time step limit exist once, a second fix would overwrite them
-  for (int k = 0; k < modify->nfix; k++)
-    if (modify->fix[k] != this && utils::strmatch(modify->fix[k]->style, "^contact/tri-penalty"))
+  for (auto *f : sphcut::fixes_by_style(modify, "^contact/tri-penalty"))
+    if (f != this)
       error->all(FLERR, "Fix contact/tri-penalty: only one contact/tri-penalty fix is supported, found {} and {} "
                  "(the per-atom contact state and the contact's time step limit exist once; put several tools "
-                 "in one STL file)", id, modify->fix[k]->id);
+                 "in one STL file)", id, f->id);
   fix = FixSPHJCThermal::require(lmp, "Fix contact/tri-penalty", groupbit, group->names[igroup], &model);
   fix->attach(this);
   heat = nullptr;
   if (!id_heat.empty()) {
-    const int ih = modify->find_fix(id_heat);
-    if (ih < 0) error->all(FLERR, "Fix contact/tri-penalty: heat fix {} does not exist", id_heat);
-    if (!utils::strmatch(modify->fix[ih]->style, "^heat/fmfs"))
+    Fix *h = sphcut::fix_by_id(modify, id_heat);
+    if (!h) error->all(FLERR, "Fix contact/tri-penalty: heat fix {} does not exist", id_heat);
+    if (!utils::strmatch(h->style, "^heat/fmfs"))
       error->all(FLERR, "Fix contact/tri-penalty: fix {} is not of style heat/fmfs", id_heat);
-    heat = dynamic_cast<FixHeatFMFS *>(modify->fix[ih]);
+    heat = dynamic_cast<FixHeatFMFS *>(h);
   }
   for (int k = 0; k < 3; k++)
     if (!vvar[k].empty()) {

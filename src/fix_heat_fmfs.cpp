@@ -163,21 +163,17 @@ void FixHeatFMFS::init()
   // accumulator, fetched by this fix's /kk variant), and (/kk) this fix's thermal dt limit
   fix->set_heat_rules(this, groupbit, dir_bits, dir_temps, every, &q_dirichlet);
   // Dirichlet temperatures are imposed after the temperature update of that fix
-  int ifix = -1, ime = -1, ninst = 0;
-  for (int i = 0; i < modify->nfix; i++) {
-    if (modify->fix[i] == fix) ifix = i;
-    if (modify->fix[i] == this) ime = i;
-    if (utils::strmatch(modify->fix[i]->style, "^heat/fmfs")) ninst++;
-  }
-  if (ime < ifix) error->all(FLERR, "Fix heat/fmfs must be defined after fix sph/jc-thermal");
+  if (sphcut::fix_index(modify, this) < sphcut::fix_index(modify, fix))
+    error->all(FLERR, "Fix heat/fmfs must be defined after fix sph/jc-thermal");
+  const int ninst = (int) sphcut::fixes_by_style(modify, "^heat/fmfs").size();
   if (ninst > 1) error->all(FLERR, "Fix heat/fmfs: only one instance is allowed, found {}", ninst);
   surface = nullptr;
   if (id_surface) {
-    const int ic = modify->find_compute(id_surface);
-    if (ic < 0) error->all(FLERR, "Fix heat/fmfs: surface compute {} does not exist", id_surface);
-    if (!utils::strmatch(modify->compute[ic]->style, "^surface/lambda"))
+    Compute *c = sphcut::compute_by_id(modify, id_surface);
+    if (!c) error->all(FLERR, "Fix heat/fmfs: surface compute {} does not exist", id_surface);
+    if (!utils::strmatch(c->style, "^surface/lambda"))
       error->all(FLERR, "Fix heat/fmfs: compute {} is not of style surface/lambda", id_surface);
-    surface = dynamic_cast<ComputeSurfaceLambda *>(modify->compute[ic]);
+    surface = dynamic_cast<ComputeSurfaceLambda *>(c);
   }
   const Material *mat = model->materials();
   for (int t = 1; t <= atom->ntypes; t++)

@@ -200,15 +200,13 @@ void FixSPHJCThermal::init()
   if (!atom->rmass_flag && !atom->mass_setflag)
     error->all(FLERR, "Fix sph/jc-thermal: per-type masses are not set (use the mass command)");
   int count = 0;
-  for (int i = 0; i < modify->nfix; i++)
-    if (modify->fix[i]->time_integrate && modify->fix[i] != this) {
-      if (group->bitmask[modify->fix[i]->igroup] & groupbit) count++;
+  for (auto *f : sphcut::fix_list(modify))
+    if (f->time_integrate && f != this) {
+      if (group->bitmask[f->igroup] & groupbit) count++;
     }
   if (count && comm->me == 0)
     error->warning(FLERR, "Fix sph/jc-thermal: another time integration fix acts on its group");
-  int ninst = 0;
-  for (int i = 0; i < modify->nfix; i++)
-    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal")) ninst++;
+  const int ninst = (int) sphcut::fixes_by_style(modify, "^sph/jc-thermal").size();
   if (ninst > 1) error->all(FLERR, "Fix sph/jc-thermal: only one instance is allowed, found {}", ninst);
   reset_dt();
 }
@@ -249,9 +247,7 @@ FixSPHJCThermal *FixSPHJCThermal::require(LAMMPS *lmp, const std::string &who, i
 {
   *model = &sphcut::require_model(lmp, who);
   FixSPHJCThermal *fix = nullptr;
-  for (int i = 0; i < lmp->modify->nfix; i++)
-    if (utils::strmatch(lmp->modify->fix[i]->style, "^sph/jc-thermal"))
-      fix = dynamic_cast<FixSPHJCThermal *>(lmp->modify->fix[i]);
+  for (auto *f : sphcut::fixes_by_style(lmp->modify, "^sph/jc-thermal")) fix = dynamic_cast<FixSPHJCThermal *>(f);
   if (!fix) lmp->error->all(FLERR, "{} requires fix sph/jc-thermal", who);
   // every particle of the caller's group needs the SPH state
   int bad = 0, gbad = 0;
@@ -606,7 +602,7 @@ void FixSPHJCThermal::apply_dt(double dtnew)
   anchored = true;
   update->dt_default = 0;
   if (force->pair) force->pair->reset_dt();
-  for (int i = 0; i < modify->nfix; i++) modify->fix[i]->reset_dt();
+  for (auto *f : sphcut::fix_list(modify)) f->reset_dt();
 }
 
 // the adaptive dt is recomputed at the end of every dtevery-th step (and at every setup): between,
@@ -669,10 +665,10 @@ void FixSPHJCThermal::prune_attached()
 {
   std::vector<sphcut::AttachedStyle *> live;
   if (auto *p = dynamic_cast<sphcut::AttachedStyle *>(force->pair)) live.push_back(p);
-  for (int i = 0; i < modify->nfix; i++)
-    if (auto *f = dynamic_cast<sphcut::AttachedStyle *>(modify->fix[i])) live.push_back(f);
-  for (int i = 0; i < modify->ncompute; i++)
-    if (auto *c = dynamic_cast<sphcut::AttachedStyle *>(modify->compute[i])) live.push_back(c);
+  for (auto *fx : sphcut::fix_list(modify))
+    if (auto *f = dynamic_cast<sphcut::AttachedStyle *>(fx)) live.push_back(f);
+  for (auto *cx : sphcut::compute_list(modify))
+    if (auto *c = dynamic_cast<sphcut::AttachedStyle *>(cx)) live.push_back(c);
   std::vector<sphcut::AttachedStyle *> kept;
   for (auto *t : timed)
     if (std::find(live.begin(), live.end(), t) != live.end()) kept.push_back(t);

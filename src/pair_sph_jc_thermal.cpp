@@ -140,9 +140,7 @@ void PairSPHJCThermal::coeff(int narg, char **arg)
 void PairSPHJCThermal::init_style()
 {
   fix = nullptr;
-  for (int i = 0; i < modify->nfix; i++)
-    if (utils::strmatch(modify->fix[i]->style, "^sph/jc-thermal"))
-      fix = dynamic_cast<sphcut::StateOwner *>(modify->fix[i]);
+  for (auto *f : sphcut::fixes_by_style(modify, "^sph/jc-thermal")) fix = dynamic_cast<sphcut::StateOwner *>(f);
   if (!fix) error->all(FLERR, "Pair sph/jc-thermal requires fix sph/jc-thermal");
   fix->attach(this);
   const double hourglass = mdl.hourglass_coefficient();

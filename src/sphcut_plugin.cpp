@@ -3,6 +3,8 @@
 ------------------------------------------------------------------------- */
 
 #include "lammpsplugin.h"
+#include "library.h"
+#include "utils.h"
 #include "version.h"
 
 #include "atom.h"
@@ -16,10 +18,20 @@
 #include "fix_sph_jc_thermal.h"
 #include "pair_sph_jc_thermal.h"
 
+#include <cstdio>
 #include <string>
 #include <utility>
 
 using namespace LAMMPS_NS;
+
+// the LAMMPS version (version.h's "D Mon YYYY") the plugin is compiled against; the tests build a
+// second plugin that claims another one (test_plugin_mismatch)
+#ifndef SPHCUT_BUILT_FOR_LAMMPS
+#define SPHCUT_BUILT_FOR_LAMMPS LAMMPS_VERSION
+#endif
+#ifndef SPHCUT_SOURCE_DIR
+#define SPHCUT_SOURCE_DIR "<sphcut>"
+#endif
 
 namespace {
 
@@ -71,6 +83,28 @@ template <int... K> void refuse_kk_atom_styles(LAMMPS *lmp, std::integer_sequenc
     }
 }
 
+const char *const MONTHS[12] = {"Jan", "Feb", "Mar", "Apr", "May", "Jun",
+                                "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};
+
+// "29 Sep 2021" -> 20210929 (what LAMMPS' utils::date2num gives its num_ver), 0 if unreadable
+int date_number(const char *date)
+{
+  int day = 0, year = 0;
+  char mon[4] = "";
+  if (std::sscanf(date, "%d %3s %d", &day, mon, &year) != 3) return 0;
+  for (int m = 0; m < 12; m++)
+    if (std::string(mon) == MONTHS[m]) return year * 10000 + (m + 1) * 100 + day;
+  return 0;
+}
+
+// 20260704 -> "4 Jul 2026"
+std::string date_string(int num)
+{
+  const int m = (num / 100) % 100;
+  if (m < 1 || m > 12) return std::to_string(num);
+  return std::to_string(num % 100) + " " + MONTHS[m - 1] + " " + std::to_string(num / 10000);
+}
+
 }    // namespace
 
 #ifdef SPHCUT_HAVE_KOKKOS
@@ -79,6 +113,23 @@ void sphcut_register_kokkos(lammpsplugin_regfunc reg, void *lmp, void *handle);
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
 {
+  // a plugin compiled against another LAMMPS sees other class layouts (LAMMPS' plugin docs: "there
+  // are no checks"): register nothing and say so.  Only LAMMPS' C library interface and
+  // utils::logmesg(LAMMPS *, std::string) are called before the check, so no member of a LAMMPS
+  // class is read with this build's layout.  A warning, as LAMMPS' own failed plugin loads are,
+  // not an error: LAMMPS_PLUGIN_PATH loads every plugin there at start-up, wanted or not
+  const int running = lammps_version(lmp);
+  if (running != date_number(SPHCUT_BUILT_FOR_LAMMPS)) {
+    if (lammps_extract_setting(lmp, "world_rank") == 0)
+      utils::logmesg((LAMMPS *) lmp, std::string("WARNING: sphcut " SPHCUT_VERSION " was built for LAMMPS "
+                     SPHCUT_BUILT_FOR_LAMMPS " but this is LAMMPS ") + date_string(running) +
+                     ": no sphcut style is loaded. Rebuild sphcut against this LAMMPS (a shared library "
+                     "with the PLUGIN package): cmake -S " SPHCUT_SOURCE_DIR " -B build-" +
+                     std::to_string(running) + " -DLAMMPS_SOURCE_DIR=<this LAMMPS>/src "
+                     "-DLAMMPS_ROOT=<its install prefix> && cmake --build build-" + std::to_string(running) +
+                     ", then load that build's sphcutplugin.so\n");
+    return;
+  }
   auto reg = (lammpsplugin_regfunc) regfunc;
   auto *lammps = (LAMMPS *) lmp;
   if (!lammps->kokkos) refuse_kk_atom_styles(lammps, std::make_integer_sequence<int, NKK_ATOM>());

@@ -6,7 +6,9 @@
 #     (-std=c++17, which their headers require);
 #   every /kk source, KOKKOS/*.cpp, against LAMMPS 4Jul2026 with its KOKKOS package and the
 #     headers of Kokkos 5.2.2 (OpenMP backend, Debian sid's libkokkos-dev; -std=c++20 -fopenmp,
-#     which Kokkos 5 requires).
+#     which Kokkos 5 requires), and against LAMMPS 4Feb2025 with the headers of Kokkos 4.5.01
+#     (Debian sid's libtrilinos-kokkos-dev, built with the Serial backend only, so the device
+#     and host types are the same there; -std=c++17).
 # Fails, naming each source and its first errors, when the LAMMPS API drifts away from what
 # src/sphcut_compat.h, KOKKOS/sphcut_kokkos.h and the version checks handle.  Nothing is linked
 # or run: README, "Compatibility with newer LAMMPS", says what was run by hand.
@@ -27,7 +29,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --jobs) JOBS="$2"; shift ;;
     --mpi-cflags) MPI_CFLAGS="$2"; shift ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) echo "compat-check.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -52,8 +54,9 @@ version=$(sed -n 's/^project(sphcut VERSION \([0-9.]*\).*/\1/p' "$ROOT/CMakeList
 
 sources=("$ROOT"/src/*.cpp "$ROOT/tools/lmp_sphcut.cpp")
 kk_sources=("$ROOT"/KOKKOS/*.cpp)
-KK_VERSIONS=(20260704)     # the LAMMPS versions whose KOKKOS package builds with Kokkos 5.2
-KOKKOS_INC="$DIR/kokkos-5.2.2/include"
+# the LAMMPS versions the /kk sources are checked against, each with the Kokkos of its time
+KK_VERSIONS=(20250204 20260704)
+declare -A KOKKOS_OF=([20250204]=4.5.1 [20260704]=5.2.2)
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT
 
@@ -64,10 +67,15 @@ compile_one() {
   local log="$logs/$ver-${rel//\//_}.log"
   local flags=(-std=c++17)
   if [[ "$src" == "$ROOT"/KOKKOS/* ]]; then
-    # C++20 itself deprecates the volatile reducers' joins and the LAMMPS mask enums' arithmetic
-    # (-Wvolatile, -Wdeprecated-enum-enum-conversion): not an API drift, not shown
-    flags=(-std=c++20 -fopenmp -Wno-volatile -Wno-deprecated-enum-enum-conversion -DLMP_KOKKOS
-           -DSPHCUT_HAVE_KOKKOS -I"$ROOT/KOKKOS" -isystem "$lsrc/KOKKOS" -isystem "$KOKKOS_INC")
+    flags=(-DLMP_KOKKOS -DSPHCUT_HAVE_KOKKOS -I"$ROOT/KOKKOS" -isystem "$lsrc/KOKKOS"
+           -isystem "$DIR/kokkos-${KOKKOS_OF[$ver]}/include")
+    if [ "${KOKKOS_OF[$ver]%%.*}" -ge 5 ]; then
+      # C++20 itself deprecates compound assignments to volatile values and the LAMMPS mask enums'
+      # arithmetic (-Wvolatile, -Wdeprecated-enum-enum-conversion): not an API drift, not shown
+      flags+=(-std=c++20 -fopenmp -Wno-volatile -Wno-deprecated-enum-enum-conversion)
+    else
+      flags+=(-std=c++17)
+    fi
   fi
   "$CXX" -fsyntax-only -Wall -Wextra -Wno-unused-parameter "${flags[@]}" \
     -DSPHCUT_LAMMPS_VERSION="$ver" -DSPHCUT_VERSION="\"$version\"" \
@@ -109,8 +117,9 @@ for k in "${!jobs_v[@]}"; do
     grep -m8 -E "error|required from here" "$log" | sed 's/^/    /'
   fi
 done
+kk_pairs=$(for v in "${KK_VERSIONS[@]}"; do printf '%s+Kokkos %s, ' "$v" "${KOKKOS_OF[$v]}"; done)
 echo "compat-check: ${#sources[@]} CPU sources x LAMMPS ${versions[*]}, ${#kk_sources[@]} /kk sources x LAMMPS" \
-  "${KK_VERSIONS[*]} + Kokkos 5.2.2: ${#jobs_v[@]} compilations in $(( $(date +%s) - t0 )) s ($CXX, headers in $DIR)"
+  "${kk_pairs%, }: ${#jobs_v[@]} compilations in $(( $(date +%s) - t0 )) s ($CXX, headers in $DIR)"
 if [ $fail = 1 ]; then
   echo "compat-check: FAILED: the sources no longer compile against a LAMMPS version README claims" >&2
   exit 1

@@ -3,7 +3,8 @@
 # tools/compat-check.sh (ctest test_compat_lammps): the src/ headers of
 #   LAMMPS 4Feb2025 (Debian trixie, source package lammps 20250204+dfsg.1-2)
 #   LAMMPS 4Jul2026 (Debian sid,    source package lammps 20260704+dfsg-2)
-# and the installed headers of Kokkos 5.2.2 (OpenMP; Debian sid, libkokkos-dev 5.2.2-2).
+# and the installed headers of Kokkos 5.2.2 (OpenMP; Debian sid, libkokkos-dev 5.2.2-2) and of
+# Kokkos 4.5.01 (Serial only, the package's build; Debian sid, libtrilinos-kokkos-dev 16.1.0-5+b2).
 #
 # Downloaded with apt-get through a private apt configuration under the cache (its own
 # sources list with deb-src entries for trixie and sid and a deb entry for sid, its own
@@ -17,7 +18,8 @@
 # the compile check fails with a missing-include error, it does not pass silently).
 #
 # Usage: tools/compat-sources.sh [--print-dir]
-#   prints the folder holding lammps-YYYYMMDD/src and kokkos-5.2.2/include on its last line
+#   prints the folder holding lammps-YYYYMMDD/src, kokkos-5.2.2/include and kokkos-4.5.1/include
+#   on its last line
 # Exit status: 0 ready; 77 the sources cannot be downloaded (no apt-get, no network) and CI is
 # not set (ctest reports the test as skipped); 1 anything else, and a failed download in CI.
 # Environment: SPHCUT_CACHE (default $HOME/.cache/sphcut).
@@ -29,8 +31,9 @@ RECIPE=1
 DIR="$CACHE/compat-r$RECIPE"
 # Debian source version : LAMMPS version as a number (its version.h is checked against it)
 LAMMPS_DEBS=("20250204+dfsg.1-2:20250204" "20260704+dfsg-2:20260704")
-KOKKOS_DEB="5.2.2-2"
-KOKKOS_VERSION_NUM=50202   # its KOKKOS_VERSION macro
+# Kokkos headers: Debian package=version : folder : its KOKKOS_VERSION : the backend it enables
+KOKKOS_DEBS=("libkokkos-dev=5.2.2-2:kokkos-5.2.2:50202:OPENMP"
+             "libtrilinos-kokkos-dev=16.1.0-5+b2:kokkos-4.5.1:40501:SERIAL")
 if [ "${1:-}" = "--print-dir" ]; then echo "$DIR"; exit 0; fi
 
 # the first existing file among the arguments (a glob), or nothing
@@ -47,7 +50,7 @@ cannot_download() {
 all_complete() {
   local e
   for e in "${LAMMPS_DEBS[@]}"; do [ -f "$DIR/lammps-${e#*:}/.complete" ] || return 1; done
-  [ -f "$DIR/kokkos-${KOKKOS_DEB%-*}/.complete" ]
+  for e in "${KOKKOS_DEBS[@]}"; do IFS=: read -r _ k _ _ <<< "$e"; [ -f "$DIR/$k/.complete" ] || return 1; done
 }
 if all_complete; then echo "$DIR"; exit 0; fi
 
@@ -120,23 +123,26 @@ for e in "${LAMMPS_DEBS[@]}"; do
 done
 
 # ---------------------------------------------------------------- Kokkos headers
-kdst="$DIR/kokkos-${KOKKOS_DEB%-*}"
-if [ ! -f "$kdst/.complete" ]; then
-  log "apt-get download libkokkos-dev=$KOKKOS_DEB (sid)"
-  (cd "$DL" && apt-get "${APT_OPTS[@]}" download "libkokkos-dev=$KOKKOS_DEB") > "$DL/kokkos.log" 2>&1 || true
-  deb=$(first "$DL"/libkokkos-dev_"$KOKKOS_DEB"_*.deb)
-  [ -n "$deb" ] || { tail -5 "$DL/kokkos.log" >&2; cannot_download "libkokkos-dev_$KOKKOS_DEB (apt-get download, sid)"; }
+for e in "${KOKKOS_DEBS[@]}"; do
+  IFS=: read -r pkgver kdir knum kbackend <<< "$e"
+  pkg="${pkgver%%=*}"; pver="${pkgver#*=}"
+  kdst="$DIR/$kdir"
+  [ -f "$kdst/.complete" ] && continue
+  log "apt-get download $pkgver (sid)"
+  (cd "$DL" && apt-get "${APT_OPTS[@]}" download "$pkgver") > "$DL/$kdir.log" 2>&1 || true
+  deb=$(first "$DL"/"${pkg}"_"${pver//:/%3a}"_*.deb)
+  [ -n "$deb" ] || { tail -5 "$DL/$kdir.log" >&2; cannot_download "${pkg}_$pver (apt-get download, sid)"; }
   rm -rf "$kdst" "$kdst.tmp"
   mkdir -p "$kdst.tmp"
   dpkg-deb -x "$deb" "$kdst.tmp"
   mkdir -p "$kdst"
   mv "$kdst.tmp/usr/include/kokkos" "$kdst/include"
   rm -rf "$kdst.tmp" "$deb"
-  grep -q "define KOKKOS_VERSION $KOKKOS_VERSION_NUM\$" "$kdst/include/KokkosCore_config.h" \
-    && grep -q "define KOKKOS_ENABLE_OPENMP" "$kdst/include/KokkosCore_config.h" \
-    || { echo "compat-sources.sh: $deb is not Kokkos $KOKKOS_VERSION_NUM with OpenMP" >&2; exit 1; }
+  grep -q "define KOKKOS_VERSION $knum\$" "$kdst/include/KokkosCore_config.h" \
+    && grep -q "define KOKKOS_ENABLE_$kbackend" "$kdst/include/KokkosCore_config.h" \
+    || { echo "compat-sources.sh: $deb is not Kokkos $knum with $kbackend" >&2; exit 1; }
   touch "$kdst/.complete"
-fi
+done
 rm -rf "$APTDIR/lists" "$APTDIR/cache"   # the package lists (about 35 MB) are not needed again
 log "ready: $DIR"
 echo "$DIR"

@@ -58,7 +58,7 @@ inline Snapshot take(Lammps &l, const char *fixid = "sph")
   MPI_Allreduce(&mymax, &maxtag, 1, MPI_LMP_TAGINT, MPI_MAX, l.lmp->world);
   const int ncol = F::NOUT;    // state columns RHO .. DTEMP
   std::vector<double> x((size_t) 3 * maxtag, 0.0), st((size_t) maxtag * ncol, 0.0);
-  auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix(fixid)]);
+  auto *fix = static_cast<F *>(sphcut::fix_by_id(l.lmp->modify, fixid));
   for (int i = 0; i < atom->nlocal; i++) {
     const size_t t = atom->tag[i] - 1;
     for (int a = 0; a < 3; a++) x[3 * t + a] = atom->x[i][a];

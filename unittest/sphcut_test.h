@@ -13,6 +13,8 @@
 #include "variable.h"
 #include "exceptions.h"
 
+#include "sphcut_compat.h"    // sphcut::fix_by_id(), compute_by_id(): Modify's lists in every LAMMPS version
+
 #include <gtest/gtest.h>
 #include <mpi.h>
 

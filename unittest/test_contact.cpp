@@ -81,7 +81,7 @@ void one_particle(Lammps &l, int dim, const double *x, double E = 1.0e6, const s
 
 double *fcontact(Lammps &l, int tag, const char *id = "tool")
 {
-  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix(id)];
+  LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, id);
   return f->array_atom[l.lmp->atom->map(tag)];
 }
 
@@ -1064,7 +1064,7 @@ void heat_scene(Lammps &l, bool tool_particles, const std::string &contact_extra
 double heat_content(Lammps &l, int type)
 {
   auto *atom = l.lmp->atom;
-  auto *sph = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  auto *sph = sphcut::fix_by_id(l.lmp->modify, "sph");
   double e = 0.0;
   for (int i = 0; i < atom->nlocal; i++)
     if (atom->type[i] == type) e += atom->mass[type] * 477.0 * sph->array_atom[i][11];    // column TEMP
@@ -1126,7 +1126,7 @@ TEST(FrictionHeat, SplitAutoToToolParticles)
     // tool particles out of reach (2h) of the particle's path (x in [0, 1.6] mm) get no friction heat
     double far = 0.0, near = 0.0;
     auto *atom = l.lmp->atom;
-    auto *sph = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+    auto *sph = sphcut::fix_by_id(l.lmp->modify, "sph");
     for (int i = 0; i < atom->nlocal; i++) {
       if (atom->type[i] != 2) continue;
       const double dT = sph->array_atom[i][11] - 300.0;
@@ -1167,7 +1167,7 @@ TEST(FrictionHeat, EveryToolParticleInReach)
           "fix tool all contact/tri-penalty stl plate.stl dfac 0.5 mu 0.3 eta 1 heat heat tool_particles toolp split 0.5",
           "run 0"});
   auto *atom = l.lmp->atom;
-  auto *sph = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  auto *sph = sphcut::fix_by_id(l.lmp->modify, "sph");
   std::vector<double> t0(atom->natoms + 1);
   for (int i = 0; i < atom->nlocal; i++) t0[atom->tag[i]] = sph->array_atom[i][11];
   l.cmd("run 1");

@@ -398,7 +398,7 @@ TEST(SharpCorners, ContactForceOnAGridAsTheReference)
             "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal",
             "timestep 1e-7", "fix tool all contact/tri-penalty " + tool + " sfac 0.25 dfac 0 mu 0 onset 0", "run 0"});    // linear spring (onset 0): d = rc - F_N/k
     const double k = dim == 2 ? E : E * DP;
-    LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("tool")];
+    LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, "tool");
 #ifdef SPHCUT_TEST_KOKKOS
     EXPECT_EQ(f->kokkosable, 1);    // the /kk fix (it goes by the CPU style's name)
 #endif
@@ -474,7 +474,7 @@ TEST(SharpCorners, SectionOfAnStlWedgeIn2D)
     l.cmds({"mass 1 " + num(RHO * DP * DP), "pair_style sph/jc-thermal",
             "pair_coeff 1 1 rho0 7800 E " + num(E) + " nu 0.3 hdx 1.3", "fix sph all sph/jc-thermal",
             "timestep 1e-7", "fix tool all contact/tri-penalty stl wedge2d.stl sfac 0.25 dfac 0 mu 0 onset 0", "run 0"});
-    LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("tool")];
+    LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, "tool");
     int nchecked = 0, nwrong = 0;
     double worst = 0.0, worstn = 0.0;
     for (size_t a = 0; a < pts.size(); a++) {

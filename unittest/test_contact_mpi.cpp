@@ -87,7 +87,7 @@ Snapshot take(Lammps &l, const std::vector<double> &x0)
   const int natoms = static_cast<int>(l.lmp->atom->natoms);
   const std::vector<double> x = gather_x(l);
   std::vector<double> mine(natoms, 0.0), temp(natoms);
-  LAMMPS_NS::Fix *sph = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  LAMMPS_NS::Fix *sph = sphcut::fix_by_id(l.lmp->modify, "sph");
   for (int i = 0; i < l.lmp->atom->nlocal; i++) mine[l.lmp->atom->tag[i] - 1] = sph->array_atom[i][TEMP_COL];
   MPI_Allreduce(mine.data(), temp.data(), natoms, MPI_DOUBLE, MPI_SUM, l.lmp->world);
   for (int i : site_order(x0)) {
@@ -221,7 +221,7 @@ TEST(ContactInvariance, FrictionMemoryRanksAndRestart)
     l.cmds(fixes("particles", mem));
     const std::vector<double> x0 = gather_x(l);
     l.cmd("run 50");
-    LAMMPS_NS::Fix *tool = l.lmp->modify->fix[l.lmp->modify->find_fix("tool")];
+    LAMMPS_NS::Fix *tool = sphcut::fix_by_id(l.lmp->modify, "tool");
     std::vector<int> mine;
     for (int i = 0; i < l.lmp->atom->nlocal; i++)
       if (tool->array_atom[i][5] > 0.0 && tool->array_atom[i][4] > 0.0) mine.push_back(l.lmp->atom->tag[i]);

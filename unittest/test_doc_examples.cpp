@@ -200,7 +200,7 @@ TEST(DocExamples, EveryExampleBlockRuns)
       char fid[64];
       int ca = 0, cb = 0;
       if (sscanf(expr.c_str(), "%*[Ff]_%63[^[][%d]-%*[Ff]_%*[^[][%d]", fid, &ca, &cb) != 3) continue;
-      LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix(fid)];
+      LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, fid);
       double spread = 0.0, worst = 0.0;
       for (int i = 0; i < nlocal; i++) {
         const double want = f->array_atom[i][ca - 1] - f->array_atom[i][cb - 1];

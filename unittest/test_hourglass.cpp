@@ -25,7 +25,7 @@ const double DX = 1.0e-3, RHO = 7800.0;
 
 FixSPHJCThermal *state_fix(Lammps &l)
 {
-  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, "sph");
   return static_cast<FixSPHJCThermal *>(f);
 }
 

@@ -27,12 +27,12 @@ namespace {
 // the fix ID is the /kk variant in test_inputs_kk, the CPU style in test_inputs
 void expect_variant(Lammps &l, const char *id)
 {
-  const int ifix = l.lmp->modify->find_fix(id);
-  ASSERT_GE(ifix, 0) << id;
+  const LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, id);
+  ASSERT_NE(f, nullptr) << id;
 #ifdef SPHCUT_TEST_KOKKOS
-  EXPECT_EQ(l.lmp->modify->fix[ifix]->kokkosable, 1) << id;
+  EXPECT_EQ(f->kokkosable, 1) << id;
 #else
-  EXPECT_EQ(l.lmp->modify->fix[ifix]->kokkosable, 0) << id;
+  EXPECT_EQ(f->kokkosable, 0) << id;
 #endif
 }
 
@@ -223,7 +223,7 @@ TEST(StartOnTool, ParticlesOnTheFaceAreWarnedAbout)
 TEST(HeatDefaultTemperature, MessageNamesTheTemperature)
 {
   auto temps = [](Lammps &l, double &tmin, double &tmax) {
-    auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix("sph")]);
+    auto *fix = static_cast<F *>(sphcut::fix_by_id(l.lmp->modify, "sph"));
     tmin = 1e300;
     tmax = -1e300;
     for (int i = 0; i < l.lmp->atom->nlocal; i++) {
@@ -310,7 +310,7 @@ namespace {
 // the state of the particle with tag `tag` (host copy, current between runs also under /kk)
 double *state_of(Lammps &l, int tag)
 {
-  auto *fix = static_cast<F *>(l.lmp->modify->fix[l.lmp->modify->find_fix("sph")]);
+  auto *fix = static_cast<F *>(sphcut::fix_by_id(l.lmp->modify, "sph"));
   return fix->state[l.lmp->atom->map(tag)];
 }
 

@@ -69,7 +69,7 @@ TEST(Kokkos, StylesAreTheKokkosOnes)
   l.cmds(collision("off"));
   EXPECT_STREQ(l.lmp->force->pair_style, "sph/jc-thermal/kk");
   // the fix goes by the CPU style's name (restart files match fixes by name): kokkosable tells
-  LAMMPS_NS::Fix *fix = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  LAMMPS_NS::Fix *fix = sphcut::fix_by_id(l.lmp->modify, "sph");
   EXPECT_STREQ(fix->style, "sph/jc-thermal");
   EXPECT_EQ(fix->kokkosable, 1);
 }
@@ -881,8 +881,8 @@ BlockEnd heated_block_under(const char *env, const char *value)
 const int *contact_near(Lammps &l, const char *id)
 {
   int dim = -1;
-  const int k = l.lmp->modify->find_fix(id);
-  return k < 0 ? nullptr : static_cast<const int *>(l.lmp->modify->fix[k]->extract("near", dim));
+  LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, id);
+  return f ? static_cast<const int *>(f->extract("near", dim)) : nullptr;
 }
 }    // namespace
 
@@ -1134,7 +1134,7 @@ Snapshot heated_block_run(int fuse, int nsteps, int stop, double *qdir, const st
   l.cmds(more);
   if (stop > 0) {
     l.cmd("fix ext all external pf/callback 1 1");
-    auto *fe = static_cast<LAMMPS_NS::FixExternal *>(l.lmp->modify->fix[l.lmp->modify->find_fix("ext")]);
+    auto *fe = static_cast<LAMMPS_NS::FixExternal *>(sphcut::fix_by_id(l.lmp->modify, "ext"));
     fe->set_callback(force_timeout_at, l.lmp);
     timeout_step = stop;
   }
@@ -1453,9 +1453,8 @@ TEST(KokkosThermal, OutputStepsCopyTheOutputColumns)
   for (const int sync : {1, 0}) {
     const auto l = counted_cut("0.6", steps, "SPHCUT_OUTPUT_SYNC", sync ? "1" : "0");
     for (const char *id : {"series", "stop"}) {
-      const int k = l->lmp->modify->find_fix(id);
-      ASSERT_GE(k, 0) << id;
-      const auto *f = l->lmp->modify->fix[k];
+      const auto *f = sphcut::fix_by_id(l->lmp->modify, id);
+      ASSERT_NE(f, nullptr) << id;
       EXPECT_EQ(f->datamask_modify, sync ? (unsigned) EMPTY_MASK : (unsigned) ALL_MASK) << id;
       EXPECT_EQ(f->datamask_read, (unsigned) ALL_MASK) << id;
     }
@@ -1499,14 +1498,14 @@ TEST(KokkosThermal, OutputsReducedOnTheDevice)
     l.lmp->input->file(CUT2D.c_str());
     MPI_Barrier(MPI_COMM_WORLD);    // (fix print flushes each line)
     rows[kk] = numeric_rows("forces.dat", 7);
-    const int ic = l.lmp->modify->find_compute("Trake");
-    ASSERT_GE(ic, 0);
-    EXPECT_STREQ(l.lmp->modify->compute[ic]->style, kk ? "reduce/region/kk" : "reduce/region");
+    const auto *trake = sphcut::compute_by_id(l.lmp->modify, "Trake");
+    ASSERT_NE(trake, nullptr);
+    EXPECT_STREQ(trake->style, kk ? "reduce/region/kk" : "reduce/region");
     for (int k = 0; k < 4; k++) glob[kk][k] = l.equal("f_sph[" + std::to_string(k < 2 ? k + 2 : k + 3) + "]");
     if (!kk) continue;
-    const int is = l.lmp->modify->find_fix("sph");
-    ASSERT_GE(is, 0);
-    EXPECT_EQ(l.lmp->modify->fix[is]->peratom_freq, 100);
+    const auto *sph = sphcut::fix_by_id(l.lmp->modify, "sph");
+    ASSERT_NE(sph, nullptr);
+    EXPECT_EQ(sph->peratom_freq, 100);
     // the same state: the device path (and its fall-back) against LAMMPS' compute on the host
     l.cmds({"region ball sphere $(v_xtip) $(v_ytip) 0 $(8*v_dx) units box",
             "region all block INF INF INF INF INF INF units box", "variable shift equal 4.5*v_dx",
@@ -1526,7 +1525,7 @@ TEST(KokkosThermal, OutputsReducedOnTheDevice)
         thermo += " c_" + std::string(v) + std::to_string(c) + (c == 4 ? "" : "[1]");    // (4: one value, a scalar)
       }
     l.cmds({"suffix on", thermo, "run 0"});
-    EXPECT_STREQ(l.lmp->modify->compute[l.lmp->modify->find_compute("ref0")]->style, "reduce/region");
+    EXPECT_STREQ(sphcut::compute_by_id(l.lmp->modify, "ref0")->style, "reduce/region");
     for (size_t c = 0; c < cases.size(); c++) {
       const int nv = c == 4 ? 1 : 2;
       for (int m = 1; m <= nv; m++) {
@@ -1565,9 +1564,9 @@ TEST(KokkosThermal, PerAtomIntervalFollowsTheDumps)
     l.cmd("variable dumpevery index " + std::to_string(dump));
     if (me == 0) std::remove("dump.cutting");
     ASSERT_NO_THROW(l.lmp->input->file(CUT2D.c_str())) << "dump every " << dump;
-    const int is = l.lmp->modify->find_fix("sph");
-    ASSERT_GE(is, 0);
-    EXPECT_EQ(l.lmp->modify->fix[is]->peratom_freq, dump ? 100 : 500);
+    const auto *sph = sphcut::fix_by_id(l.lmp->modify, "sph");
+    ASSERT_NE(sph, nullptr);
+    EXPECT_EQ(sph->peratom_freq, dump ? 100 : 500);
     if (!dump) continue;
     const double tmax = l.equal("f_sph[5]");
     MPI_Barrier(MPI_COMM_WORLD);

@@ -23,7 +23,7 @@ namespace {
 FixSPHJCThermal *state_fix(Lammps &l, const char *id = "sph")
 {
   // the class lives in the plugin: check the style, then cast without RTTI
-  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix(id)];
+  LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, id);
   EXPECT_EQ(std::string(f->style).rfind("sph/jc-thermal", 0), 0u) << f->style;    // or sph/jc-thermal/kk
   return static_cast<FixSPHJCThermal *>(f);
 }
@@ -746,7 +746,7 @@ TEST(Roles, ToolAndClamped)
           "fix sph all sph/jc-thermal tool tool clamp clamp", "timestep 2e-8",
           "velocity tool set 0.0 -20.0 0.0 units box", "velocity work set 5.0 0.0 0.0 units box",
           "run 0"});
-  auto *fix = static_cast<FixSPHJCThermal *>(l.lmp->modify->fix[l.lmp->modify->find_fix("sph")]);
+  auto *fix = static_cast<FixSPHJCThermal *>(sphcut::fix_by_id(l.lmp->modify, "sph"));
   auto *atom = l.lmp->atom;
   // at rest relative to each other, the workpiece sees no force although the tool is within 2h
   for (int i = 0; i < atom->nlocal; i++) {

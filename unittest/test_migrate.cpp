@@ -39,7 +39,7 @@ struct CutRun {
 
 long long migrated_rows(Lammps &l)
 {
-  auto *fix = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+  auto *fix = sphcut::fix_by_id(l.lmp->modify, "sph");
   int dim = 0;
   long long mine = 0, all = 0;
   if (void *p = fix->extract("migrated_rows", dim)) mine = *static_cast<LAMMPS_NS::bigint *>(p);
@@ -83,7 +83,7 @@ std::unique_ptr<Lammps> cut(MPI_Comm comm, const std::vector<std::string> &args,
 CutRun go_on(Lammps &l, int more)
 {
   CutRun r;
-  if (l.lmp->modify->find_fix("lb") >= 0) l.cmd("unfix lb");    // the 2D example's load balancing
+  if (sphcut::fix_by_id(l.lmp->modify, "lb")) l.cmd("unfix lb");    // the 2D example's load balancing
   int np;
   MPI_Comm_size(l.lmp->world, &np);
   r.start = take(l);
@@ -300,7 +300,7 @@ TEST(Migrate, Keyword)
     l.cmd("fix sph all sph/jc-thermal migrate host");
     if (k) {
       int dim = 0;
-      auto *fix = l.lmp->modify->fix[l.lmp->modify->find_fix("sph")];
+      auto *fix = sphcut::fix_by_id(l.lmp->modify, "sph");
       ASSERT_NE(fix->extract("migrate_device", dim), nullptr);
       EXPECT_EQ(*static_cast<int *>(fix->extract("migrate_device", dim)), 0);
     }

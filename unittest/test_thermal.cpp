@@ -41,16 +41,16 @@ std::string sfmt(const char *f, ...)
 FixSPHJCThermal *state_fix(Lammps &l, const char *id = "sph")
 {
   // the class lives in the plugin: check the style, then cast without RTTI
-  LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix(id)];
+  LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, id);
   EXPECT_STREQ(f->style, "sph/jc-thermal");
   return static_cast<FixSPHJCThermal *>(f);
 }
 
 LAMMPS_NS::Compute *get_compute(Lammps &l, const char *id)
 {
-  const int i = l.lmp->modify->find_compute(id);
-  EXPECT_GE(i, 0);
-  return l.lmp->modify->compute[i];
+  LAMMPS_NS::Compute *c = sphcut::compute_by_id(l.lmp->modify, id);
+  EXPECT_NE(c, nullptr);
+  return c;
 }
 
 // 2D box [xlo,xhi] x [ylo,yhi] (box units) with a square lattice of spacing dx at the origin

@@ -80,7 +80,7 @@ std::vector<std::string> block(const std::string &extra, double vx = 1.0, double
 
 LAMMPS_NS::Fix *fix_of(Lammps &l, const char *id = "tool")
 {
-  return l.lmp->modify->fix[l.lmp->modify->find_fix(id)];
+  return sphcut::fix_by_id(l.lmp->modify, id);
 }
 
 // the per-facet array (every rank holds it)
@@ -454,7 +454,7 @@ TEST(ToolFields, KokkosCut2DMatchesCpu)
                           "thermoevery index 1000", "toolfields index 500"})
       l.cmd(std::string("variable ") + v);
     l.lmp->input->file((std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting").c_str());
-    LAMMPS_NS::Fix *f = l.lmp->modify->fix[l.lmp->modify->find_fix("cut")];
+    LAMMPS_NS::Fix *f = sphcut::fix_by_id(l.lmp->modify, "cut");
     a[k].assign(f->size_array_rows, std::vector<double>(NCOL));
     for (int i = 0; i < f->size_array_rows; i++)
       for (int j = 0; j < NCOL; j++) a[k][i][j] = f->compute_array(i, j);
