@@ -30,6 +30,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import shlex
 import signal
 import sqlite3
@@ -141,7 +142,7 @@ def select(tests, hmin=0.02, hmax=0.2, vcs=None):
 def _mean_scatter(values, sds):
     """mean of the tests' means and the condition's scatter: sqrt(between^2 + mean within^2)"""
     n = len(values)
-    mean = sum(values) / n
+    mean = math.fsum(values) / n
     between2 = sum((x - mean) ** 2 for x in values) / (n - 1) if n > 1 else 0.0
     within = [s for s in sds if s is not None]
     within2 = sum(s * s for s in within) / len(within) if within else 0.0
@@ -156,7 +157,7 @@ def conditions(tests):
     out = []
     for (vc, h), ts in sorted(groups.items()):
         c = {"vc": vc, "h": h, "tests": [t["test"] for t in ts], "n": len(ts),
-             "rn_um": sum(t["rn_um"] for t in ts) / len(ts)}
+             "rn_um": math.fsum(t["rn_um"] for t in ts) / len(ts)}
         c["Fc"], c["sFc"] = _mean_scatter([t["Fc_N"] for t in ts], [t["sd_Fc_N"] for t in ts])
         c["Ft"], c["sFt"] = _mean_scatter([t["Ff_N"] for t in ts], [t["sd_Ff_N"] for t in ts])
         hc = [t for t in ts if t["hchip_avg_um"] is not None]
@@ -179,7 +180,9 @@ def geometry(vc, h_mm, rn_um, per_h, per_rn, cut_h, cut_rn, vref):
     H = (ny - 1) * dx
     cut = cut_h * h + cut_rn * rn
     f = max(1.0, (vref / vc) ** 2) if vref > 0 else 1.0
-    return {"vc": vc, "h": h, "rn": rn, "H": H, "ny": ny, "cut": cut, "massscale": f}
+    # 12 significant digits: the same inputs (and run keys) wherever the means were summed
+    return {k: float(f"{x:.12g}") if isinstance(x, float) else x for k, x in
+            {"vc": vc, "h": h, "rn": rn, "H": H, "ny": ny, "cut": cut, "massscale": f}.items()}
 
 
 def run_key(inputs):
@@ -192,11 +195,12 @@ def input_hash():
 
 
 def plan_runs(conds, args, params):
+    """a run per condition, keyed by its inputs (not by the input file's text: a run made with an
+    earlier in.cutting is reused, and the report counts such runs; --rerun-stale reruns them)"""
     runs = []
-    ih = input_hash()
     for c in conds:
         g = geometry(c["vc"], c["h"], c["rn_um"], args.per_h, args.per_rn, args.cut_h, args.cut_rn, args.vref)
-        inputs = dict(g, **params, thermal=args.thermal, steady_from=args.steady_from, input=ih)
+        inputs = dict(g, **params, thermal=args.thermal, steady_from=args.steady_from)
         runs.append({"cond": c, "inputs": inputs, "key": run_key(inputs)})
     return runs
 
@@ -214,7 +218,7 @@ def estimate(inputs):
 
 def lmp_args(inputs, dumpevery):
     v = dict(inputs)
-    v.pop("input"), v.pop("steady_from")
+    v.pop("steady_from")
     f = v.pop("massscale")
     v["rho"], v["cp"] = RHO0 * f, CP0 / f
     v.update(length=0, dumpevery=dumpevery, xstart=1)
@@ -263,13 +267,12 @@ def analyse(rundir, inputs, wall):
     if lmax < 0.98 * cut_mm:
         raise RuntimeError(f"the run ended after {lmax:.4f} of {cut_mm:.4f} mm of cut")
     sel = [r for r in rows if r[1] >= inputs["steady_from"] * lmax]
-    res = {"cut_mm": lmax, "samples": len(sel), "wall_s": wall}
+    res = {"cut_mm": lmax, "samples": len(sel), "wall_s": wall, "input": input_hash()}
     for name, col in (("Fc", 2), ("Ft", 3), ("Trake", 5)):
         vals = [r[col] for r in sel]
         res[name] = sum(vals) / len(vals)
         res["se_" + name] = block_error(vals)
     log = open(os.path.join(rundir, "log.cutting")).read()
-    import re
     m = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", log)
     if m:
         res["loop_s"] = sum(float(x[0]) for x in m)
@@ -280,8 +283,18 @@ def analyse(rundir, inputs, wall):
     if os.path.exists(dump):
         try:
             from chip_thickness import chip_thickness
-            ct = chip_thickness(dump, rake_deg=inputs.get("rake", 0.0), t_from=inputs["steady_from"],
-                                h=inputs["h"], dx=inputs["H"] / (inputs["ny"] - 1))
+            from chip_thickness import ChipError
+            # the band 0.5-1.5 h above the free surface along the rake face (chip_thickness.py);
+            # where the chip leaves the rake face below 1.5 h (thick chips curl early), 0.5-1 h
+            for band in ((0.5, 1.5), (0.5, 1.0)):
+                try:
+                    ct = chip_thickness(dump, rake_deg=inputs.get("rake", 0.0), t_from=inputs["steady_from"],
+                                        band=band, h=inputs["h"], dx=inputs["H"] / (inputs["ny"] - 1))
+                    break
+                except ChipError:
+                    if band[1] == 1.0:
+                        raise
+            res["hchip_band_h"] = list(band)
             # the frame means are correlated over a few frames: the standard deviation over
             # sqrt(frames / 2) as their standard error
             res["hchip"], res["sd_hchip"] = ct["mean_um"], ct["sd_um"]
@@ -296,9 +309,12 @@ def run_campaign(args, runs, db):
     todo = []
     for r in runs:
         got = db.get(r["key"])
-        if got and (got["status"] == "done" or (got["status"] == "failed" and not args.retry_failed)):
+        stale = got and got["status"] == "done" and got["results"].get("input") != input_hash()
+        if got and not (stale and args.rerun_stale) and \
+                (got["status"] == "done" or (got["status"] == "failed" and not args.retry_failed)):
             continue
         todo.append(r)
+    todo.sort(key=lambda r: -estimate(r["inputs"])[1])      # the longest first: no straggler at the end
     print(f"validate: {len(runs)} runs, {len(runs) - len(todo)} stored in {args.db}, {len(todo)} to run, "
           f"{args.jobs} at a time", flush=True)
     if not todo:
@@ -412,6 +428,7 @@ def results_table(runs, db):
             meas = row[q + "_meas"]
             row[q + "_err"] = (sim / meas - 1.0) if (sim is not None and meas) else None
         row["Trake_sim"] = res.get("Trake") if res else None
+        row["input"] = res.get("input") if res else None
         row["loop_s"] = res.get("loop_s") if res else None
         row["steps"] = res.get("steps") if res else None
         row["atoms"] = res.get("atoms") if res else None
@@ -440,7 +457,7 @@ def write_report(args, runs, db, title):
     os.makedirs(args.out, exist_ok=True)
     cols = ["vc", "h", "rn_um", "n", "Fc_meas", "sFc_meas", "Fc_sim", "seFc_sim", "Fc_err", "Ft_meas", "sFt_meas",
             "Ft_sim", "seFt_sim", "Ft_err", "hchip_meas", "shchip_meas", "hchip_sim", "sehchip_sim", "hchip_err",
-            "Trake_sim", "atoms", "steps", "loop_s", "status", "key", "tests"]
+            "Trake_sim", "atoms", "steps", "loop_s", "status", "input", "key", "tests"]
     with open(os.path.join(args.out, "table.csv"), "w") as f:
         f.write(",".join(cols) + "\n")
         for r in rows:
@@ -469,6 +486,11 @@ def write_report(args, runs, db, title):
         else:
             lines.append(f"- {name}: no condition with both a measurement and a simulation")
     done = [r for r in rows if r["status"] == "done"]
+    stale = [r for r in done if r["input"] != input_hash()]
+    if stale:
+        lines.append(f"- {len(stale)} of {len(done)} runs were made with another version of in.cutting "
+                     f"(its SHA-1 {', '.join(sorted({r['input'] or '?' for r in stale}))}, now {input_hash()}): "
+                     "--rerun-stale runs them again")
     if done:
         loop = sum(r["loop_s"] or 0 for r in done)
         lines.append(f"- {len(done)} of {len(rows)} conditions simulated; loop time of the runs added up "
@@ -585,6 +607,8 @@ def main(argv=None):
                     "stop the running ones at DEADLINE (they are rerun by the next call)")
     ap.add_argument("--min-left", type=float, default=60, help="(default 60 s)")
     ap.add_argument("--retry-failed", action="store_true", help="run failed runs again")
+    ap.add_argument("--rerun-stale", action="store_true",
+                    help="run again the runs stored from another version of in.cutting")
     ap.add_argument("--title", help="title of the table and plots")
     args = ap.parse_args(argv)
     if args.jobs < 1:
