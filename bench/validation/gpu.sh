@@ -14,11 +14,14 @@
 #              edge) at FIG6_NY across over FIG6_CUT (2e-3 m) for each mu of FIG6_MUS (0.35 0.5 0.65),
 #              all at once; steady.py's means (after 10 % of the cut) in the summary, forces.dat in
 #              $OUT/fig6.tar.gz; a run not finished by VAL_END is stopped and reported as far as it got
+# To try it elsewhere (CPU, no build): SPHCUT_LMP=$LMP SPHCUT_GPU_ARGS=" " VAL_ARGS="--limit 1" bash bench/validation/gpu.sh
 # Results: $OUT/summary.txt (progress and tables), $OUT/runs.sqlite; make the tables and plots
 # anywhere from the database: validate.py report --db runs.sqlite [the same options].
 set -uo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 source "$ROOT/bench/gpu/common.sh"
+GPUK="$GPU -pk kokkos neigh full newton off"
+[ "$GPU" = " " ] && GPUK=""      # the CPU styles (SPHCUT_GPU_ARGS=" "): no kokkos package options
 T0=$(date +%s)
 VAL_END="${VAL_END:-$((T0 + 540))}"
 build
@@ -30,7 +33,7 @@ if command -v nvidia-cuda-mps-control > /dev/null; then
 fi
 say "validation: MPS $started, $(nvidia-smi -L 2>/dev/null | head -1)"
 # the first run JIT-compiles the kernels into the CUDA cache; the runs after it find them there
-mkdir -p /tmp/val-warm && (cd /tmp/val-warm && timeout 300 "$BIN" $GPU -pk kokkos neigh full newton off \
+mkdir -p /tmp/val-warm && (cd /tmp/val-warm && timeout 300 "$BIN" $GPUK \
   -in "$ROOT/examples/cutting-2d-ti6al4v/in.cutting" -var ny 11 -var steps 200 -var dumpevery 0 \
   -log none -screen none) || say "warm-up run failed"
 say "warm-up: $(( $(date +%s) - T0 )) s after the start (build included)"
@@ -38,7 +41,7 @@ fig6_pids=()
 if [ -n "${FIG6_NY:-}" ]; then
   for mu in ${FIG6_MUS:-0.35 0.5 0.65}; do
     d=/tmp/fig6/ny${FIG6_NY}-mu$mu; mkdir -p $d
-    (cd $d && exec timeout $(( VAL_END - $(date +%s) - 10 )) "$BIN" $GPU -pk kokkos neigh full newton off \
+    (cd $d && exec timeout $(( VAL_END - $(date +%s) - 10 )) "$BIN" $GPUK \
       -in "$ROOT/examples/cutting-2d-ti6al4v/in.cutting" -var ny "$FIG6_NY" -var cut "${FIG6_CUT:-2e-3}" \
       -var mu $mu -var dumpevery 0 -log log.cutting -screen none) &
     fig6_pids+=($!)
@@ -53,7 +56,7 @@ for s in "${SETS[@]}"; do
   # shellcheck disable=SC2086
   PYTHONUNBUFFERED=1 python3 "$ROOT/bench/validation/validate.py" run $s ${VAL_ARGS:-} --db "$DB" \
     --out /tmp/val --jobs "${VAL_JOBS:-16}" --deadline $((left - 15)) \
-    --lmp "$BIN $GPU -pk kokkos neigh full newton off" 2>&1 | tee -a "$SUM"
+    --lmp "$BIN $GPUK" 2>&1 | tee -a "$SUM"
 done
 if [ ${#fig6_pids[@]} -gt 0 ]; then
   wait "${fig6_pids[@]}"
