@@ -447,7 +447,7 @@ TEST(Kokkos, ExampleContinuesWithTheCpuStyles)
   auto l = run({"-k", "on", "t", "1"}, 1);
   EXPECT_EQ(l->lmp->update->ntimestep, 200);
   EXPECT_STREQ(l->lmp->force->pair_style, "sph/jc-thermal");
-  EXPECT_EQ(l->lmp->modify->fix[l->lmp->modify->find_fix("sph")]->kokkosable, 0);
+  EXPECT_EQ(sphcut::fix_by_id(l->lmp->modify, "sph")->kokkosable, 0);
   // the tool moved at the cutting speed through both parts (f_cut[8]: its displacement in x)
   const double v = 318.5 / 60.0, t = l->equal("time");
   EXPECT_GT(t, 0.0);
