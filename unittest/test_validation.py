@@ -68,6 +68,9 @@ av = dict(zip(a[1::3], a[2::3]))
 check(abs(float(av["rho"]) - 4430 * g["massscale"]) < 1e-6 and abs(float(av["cp"]) * g["massscale"] - 580) < 1e-9,
       f"the run gets rho x f and cp / f: {av['rho']} {av['cp']}")
 
+a0, b0 = validate.linear_fit([0.02, 0.1, 0.2], [12.0, 28.0, 48.0])
+check(abs(a0 - 8.0) < 1e-12 and abs(b0 - 200.0) < 1e-9, f"linear fit 8 + 200 h: {a0} {b0}")
+
 # ---- bad input: a clear error, nothing run
 bad = [("missing column", HEADER.replace(",Ff_N,", ",", 1) + "T1,318.5,0.1,162,3.5,32,2.2,-,-,ok\n",
         "column(s) Ff_N missing"),

@@ -447,6 +447,31 @@ def summary(rows):
     return out
 
 
+def linear_fit(xs, ys):
+    """least squares y = a + b x: (a, b)"""
+    n = len(xs)
+    mx, my = math.fsum(xs) / n, math.fsum(ys) / n
+    b = math.fsum((x - mx) * (y - my) for x, y in zip(xs, ys)) / math.fsum((x - mx) ** 2 for x in xs)
+    return my - b * mx, b
+
+
+def edge_and_chip(rows):
+    """per speed with 3 or more h: F = F_edge + k h for Fc and Ft, measured and simulated (the
+    force at h -> 0, which the edge and the flank carry, and the slope, the chip's share on the rake
+    face; the ratio of the slopes is the rake face's Ft / Fc)"""
+    out = []
+    for vc in sorted({r["vc"] for r in rows}):
+        rr = [r for r in rows if r["vc"] == vc and r["Fc_sim"] is not None]
+        if len({r["h"] for r in rr}) < 3:
+            continue
+        f = {}
+        for q in ("Fc", "Ft"):
+            for src in ("meas", "sim"):
+                f[q, src] = linear_fit([r["h"] for r in rr], [r[f"{q}_{src}"] for r in rr])
+        out.append((vc, len(rr), f))
+    return out
+
+
 def fmt(x, spec):
     return "-" if x is None else format(x, spec)
 
@@ -495,6 +520,17 @@ def write_report(args, runs, db, title):
         loop = sum(r["loop_s"] or 0 for r in done)
         lines.append(f"- {len(done)} of {len(rows)} conditions simulated; loop time of the runs added up "
                      f"{loop:.0f} s")
+    split = edge_and_chip(rows)
+    if split:
+        lines += ["", "Edge and chip: per speed, F = F0 + k h fitted over h (F0: the force at h -> 0, carried by "
+                  "the edge and the flank; k in N/mm per mm of h; kt / kc: the rake face's Ft / Fc):", "",
+                  "| vc m/min | conditions | Fc0 meas. | Fc0 sim. | kc meas. | kc sim. | Ft0 meas. | Ft0 sim. "
+                  "| kt meas. | kt sim. | kt / kc meas. | kt / kc sim. |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+        for vc, n, f in split:
+            lines.append(f"| {vc:g} | {n} | {f['Fc', 'meas'][0]:.0f} | {f['Fc', 'sim'][0]:.0f} | {f['Fc', 'meas'][1]:.0f} "
+                         f"| {f['Fc', 'sim'][1]:.0f} | {f['Ft', 'meas'][0]:.0f} | {f['Ft', 'sim'][0]:.0f} "
+                         f"| {f['Ft', 'meas'][1]:.0f} | {f['Ft', 'sim'][1]:.0f} "
+                         f"| {f['Ft', 'meas'][1] / f['Fc', 'meas'][1]:.2f} | {f['Ft', 'sim'][1] / f['Fc', 'sim'][1]:.2f} |")
     with open(os.path.join(args.out, "table.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
