@@ -490,9 +490,9 @@ def main(argv=None):
             for r in rows:
                 f.write(",".join("" if r[c] is None else str(r[c]) for c in cols) + "\n")
     with open(os.path.join(args.out, "fitted.args"), "w") as f:
-        f.write(f"--set {args.set} " + " ".join(f"--param {k}={fitted[k]:g}" for k in sorted(fitted)) + "\n")
+        f.write(f"--set {args.set} " + " ".join(f"--param {k}={fitted[k]!r}" for k in sorted(fitted)) + "\n")
     with open(os.path.join(args.out, "fitted.var"), "w") as f:
-        f.write("".join(f"-var {k} {fitted[k]:g}\n" for k in sorted(fitted)))
+        f.write("".join(f"-var {k} {fitted[k]!r}\n" for k in sorted(fitted)))
     with open(os.path.join(args.out, "calibration.json"), "w") as f:
         json.dump({"data": args.data, "set": args.set, "param": args.param, "weights": weights,
                    "fit": [{"name": k, "lo": lo, "hi": hi, "start": start[k], "value": fitted[k],
