@@ -4,8 +4,9 @@
 - the hold-out split: K conditions or a fraction, deterministic, never every condition;
 - synthetic recovery: "measured" forces made by sphcut itself at mu 0.35 (two conditions, coarse:
   spacing h / 3 and rn / 1, a cut of 1.2 h + 1 rn, no chip thickness: a few seconds a cut), then mu
-  fitted from a start of 0.5 in [0.2, 0.6]: the fitted mu is within the uncertainty the tool reports
-  of 0.35, that uncertainty is below 0.06 (measured 0.022: 3x), and the objective fell by more than
+  fitted from a start of 0.5 in [0.2, 0.6]: 0.35 is within the range the tool reports (measured:
+  0.3501 +- 0.053, 0.2976-0.3719), that uncertainty is below 0.1 (a quarter of the box; 2x the
+  measured), and the objective fell by more than
   its noise (the tool's table says so);
 - resume: a calibration with a budget of 6 simulations, run again (no LAMMPS run), then with a
   budget of 20: it runs only the simulations not stored (counted through a wrapper), a fourth call
@@ -143,11 +144,12 @@ check(rc == 0 and n == 0, f"the budget-20 calibration again: no LAMMPS run ({n},
 
 # ---- recovery
 fit = res["fit"][0]
-mu, unc = fit["value"], fit["uncertainty"]
-print(f"true mu 0.35, recovered {mu} +- {unc:.3g} ({res['uncertainty_method']}), "
+mu, unc, (lo, hi) = fit["value"], fit["uncertainty"], fit["range"]
+print(f"true mu 0.35, recovered {mu} +- {unc:.3g}, range {lo:.4g} - {hi:.4g} ({res['uncertainty_method']}), "
       f"{len(res['evaluations'])} evaluations")
-check(abs(mu - 0.35) <= unc and 0 < unc <= 0.06,
-      f"mu recovered within the reported uncertainty: {mu} +- {unc:.3g} (true 0.35; uncertainty <= 0.06)")
+check(lo <= 0.35 <= hi and abs(mu - 0.35) <= unc and 0 < unc <= 0.1,
+      f"mu recovered within the reported uncertainty: {mu} +- {unc:.3g}, range {lo:.4g} - {hi:.4g} "
+      "(true 0.35; the uncertainty under a quarter of the box, 0.1)")
 ob = res["objective"]
 table = open(os.path.join(out, "table.md")).read()
 s, f = ob["start"]["fit"], ob["fitted"]["fit"]

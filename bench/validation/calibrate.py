@@ -28,12 +28,12 @@ simplex; the design's points run as one batch (candidates x conditions at once) 
 basin.  SciPy is maintained, and Debian ships it (python3-scipy); a Bayesian optimiser would need
 another dependency for a gain at 1-3 parameters that was not measured here.
 
-Uncertainty: a quadratic fitted to the objective at the evaluated points nearest the best; the
-half-width of each parameter is how far it moves (the others following, (H^-1)_ii) before the
-objective rises by its noise: sets inside are indistinguishable from the best within the simulation
-noise and the measured scatter.  It is not a confidence interval of the model's error.  Where the
-quadratic is not resolved (too few points, curvature not positive), the spread of the evaluated
-sets within the noise of the best is given instead and flagged.
+Uncertainty: the range of each parameter whose objective is within its noise (simulation and
+measured scatter) of the best: a quadratic fitted to the objective at the evaluated points nearest the
+best (how far the parameter moves, the others following, (H^-1)_ii, before the objective rises by its
+noise), widened to every evaluated set within that noise of the best (a valley or a second basin the
+quadratic does not see: two correlated parameters such as mu and jcA).  Sets inside cannot be told
+from the best with these runs and measurements; it is not a confidence interval of the model's error.
 
 Output (OUT, default calibration-out): calibration.json (fitted values, uncertainty, objective and
 noise before and after, every evaluation), fitted.args (`--set ... --param NAME=VALUE ...` for
@@ -278,20 +278,24 @@ class Calibration:
         return self.best()
 
     def uncertainty(self, best, dJ):
-        """half-widths in the parameters' units: the quadratic's, else the spread within dJ"""
+        """per parameter: (half-width, low, high) in its units and how it was found.  The interval
+        covers the quadratic's (how far a parameter moves, the others following, before the objective
+        rises by dJ) and every evaluated set within dJ of the best (those cannot be told from it: a
+        valley or a second basin that the quadratic does not see); the half-width is the larger
+        distance from the fitted value to the interval's ends"""
         import numpy as np
         d = len(self.fit)
         pts = [e for e in self.evals if not e["failed"]]
         nq = (d + 1) * (d + 2) // 2
         xb = np.array(best["x"])
         span = np.array([hi - lo for _, lo, hi in self.fit])
+        quad = None
         if len(pts) >= nq + 1 and dJ > 0:
-            pts = sorted(pts, key=lambda e: float(np.sum((np.array(e["x"]) - xb) ** 2)))[:max(nq + 2, 3 * nq)]
-            X = np.array([e["x"] for e in pts]) - xb
+            near = sorted(pts, key=lambda e: float(np.sum((np.array(e["x"]) - xb) ** 2)))[:max(nq + 2, 3 * nq)]
+            X = np.array([e["x"] for e in near]) - xb
             cols = [np.ones(len(X))] + [X[:, i] for i in range(d)] + \
                 [X[:, i] * X[:, j] for i in range(d) for j in range(i, d)]
-            A = np.array(cols).T
-            coef = np.linalg.lstsq(A, np.array([e["J"] for e in pts]), rcond=None)[0]
+            coef = np.linalg.lstsq(np.array(cols).T, np.array([e["J"] for e in near]), rcond=None)[0]
             H = np.zeros((d, d))
             m = 1 + d
             for i in range(d):
@@ -299,14 +303,20 @@ class Calibration:
                     H[i, j] = H[j, i] = coef[m] * (2 if i == j else 1)
                     m += 1
             if np.all(np.linalg.eigvalsh(H) > 0):
-                Hi = np.linalg.inv(H)
-                half = np.sqrt(2 * dJ * np.diag(Hi)) * span
-                return {k: float(h) for (k, _, _), h in zip(self.fit, half)}, "quadratic", len(pts)
-        near = [e for e in pts if e["J"] <= best["J"] + dJ]
-        half = [(max(e["params"][k] for e in near) - min(e["params"][k] for e in near)) / 2 for k, _, _ in self.fit]
-        return {k: h for (k, _, _), h in zip(self.fit, half)}, "spread of the sets within the noise " \
-            "(the quadratic was not resolved: a lower bound)", len(near)
-
+                quad = np.sqrt(2 * dJ * np.diag(np.linalg.inv(H))) * span
+        within = [e for e in pts if e["J"] <= best["J"] + dJ]
+        out = {}
+        for i, (k, _, _) in enumerate(self.fit):
+            v = best["params"][k]
+            lo = min(e["params"][k] for e in within)
+            hi = max(e["params"][k] for e in within)
+            if quad is not None:
+                lo, hi = min(lo, v - quad[i]), max(hi, v + quad[i])
+            out[k] = (max(v - lo, hi - v), lo, hi)
+        how = (f"quadratic fit to the {min(len(pts), max(nq + 2, 3 * nq))} evaluated sets nearest the best, "
+               if quad is not None else "the quadratic not resolved (too few sets or curvature not positive: "
+               "a lower bound), ") + f"widened to the {len(within)} evaluated sets within the noise of the best"
+        return out, how
 
 # ---------------------------------------------------------------- report
 def compare(args, conds, db, sets, weights):
@@ -439,18 +449,19 @@ def main(argv=None):
           for name, p in (("start", start), ("fitted", fitted))}
     b0 = cal.cache.get(cal.tkey(start))
     dJ = best["noise"] or 0.0
-    half, how, npts = cal.uncertainty(best, dJ)
+    unc, how = cal.uncertainty(best, dJ)
 
     lines = [f"# Calibration of {', '.join(k for k, _, _ in fit)} against {os.path.basename(args.data)}", "",
              f"Start set {args.set}" + "".join(f", {kv}" for kv in args.param or []) +
              f"; weights {args.weights if args.chip else args.weights + ' (no chip: hchip 0)'}; "
              f"{len(fit_conds)} fit conditions, {len(held)} held out; {len(cal.evals)} evaluations, "
              f"{cal.sims_run} simulations run, {cal.sims_reused} reused; {cal.stop}.", "",
-             "| parameter | bounds | start | fitted | +- |", "|---|---|---|---|---|"]
+             "| parameter | bounds | start | fitted | +- | indistinguishable range |", "|---|---|---|---|---|---|"]
     for k, lo, hi in fit:
-        lines.append(f"| {k} | {lo:g} - {hi:g} | {start[k]:g} | {fitted[k]:g} | {half[k]:.2g} |")
-    lines += ["", f"Uncertainty: {how}, from {npts} evaluated sets; the change that raises the objective by "
-              f"its noise {dJ:.2g} (runs' standard errors and measured scatter).", "",
+        lines.append(f"| {k} | {lo:g} - {hi:g} | {start[k]:g} | {fitted[k]:g} | {unc[k][0]:.2g} "
+                     f"| {unc[k][1]:.4g} - {unc[k][2]:.4g} |")
+    lines += ["", f"Uncertainty: the parameter range whose objective is within its noise {dJ:.2g} (runs' standard "
+              f"errors and measured scatter) of the best: {how}.", "",
               "| objective (mean squared relative error) | start | fitted |", "|---|---|---|"]
     for part in ("fit", "holdout"):
         if ob["start"][part]:
@@ -496,7 +507,7 @@ def main(argv=None):
     with open(os.path.join(args.out, "calibration.json"), "w") as f:
         json.dump({"data": args.data, "set": args.set, "param": args.param, "weights": weights,
                    "fit": [{"name": k, "lo": lo, "hi": hi, "start": start[k], "value": fitted[k],
-                            "uncertainty": half[k]} for k, lo, hi in fit],
+                            "uncertainty": unc[k][0], "range": [unc[k][1], unc[k][2]]} for k, lo, hi in fit],
                    "uncertainty_method": how, "objective_noise": dJ, "objective": ob,
                    "start_evaluation": b0, "fitted": fitted, "stop": cal.stop,
                    "fit_conditions": [[c["vc"], c["h"]] for c in fit_conds],
