@@ -20,6 +20,11 @@ import sys
 import tempfile
 import time
 
+try:
+    import scipy  # noqa: F401
+except ImportError:
+    print(f"{sys.executable} has no scipy: Debian's python3-scipy (tools/build-deps.sh installs it)")
+    sys.exit(1)
 lmp, root = sys.argv[1], sys.argv[2]
 tool = os.path.join(root, "bench", "validation", "calibrate.py")
 runner = os.path.join(root, "bench", "validation", "validate.py")
