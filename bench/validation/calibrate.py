@@ -38,8 +38,8 @@ from the best with these runs and measurements; it is not a confidence interval 
 Output (OUT, default calibration-out): calibration.json (fitted values, uncertainty, objective and
 noise before and after, every evaluation), fitted.args (`--set ... --param NAME=VALUE ...` for
 validate.py), fitted.var (`-var NAME VALUE` lines for in.cutting), table.md and table.csv (simulated
-against measured before and after on the fit and held-out conditions) and validate.py's report of
-the fitted set in OUT/after (table, plots).  doc/calibration.md is the user's guide.
+against measured before and after on the fit and held-out conditions) and validate.py's reports
+(table, plots) of the start set in OUT/before and of the fitted set in OUT/after.  doc/calibration.md is the user's guide.
 """
 import argparse
 import copy
@@ -515,16 +515,19 @@ def main(argv=None):
                    "simulations_run": cal.sims_run, "simulations_reused": cal.sims_reused,
                    "evaluations": cal.evals}, f, indent=1)
     print("\n".join(lines))
-    rep = copy.copy(args)
-    rep.out = os.path.join(args.out, "after")
-    try:
-        import contextlib
-        import io
-        with contextlib.redirect_stdout(io.StringIO()):
-            validate.write_report(rep, validate.plan_runs(conds, args, fitted), db,
-                                  f"fitted set ({', '.join(f'{k} {fitted[k]:g}' for k, _, _ in fit)})")
-    except Exception as e:          # the calibration stands; the report of validate.py is extra
-        print(f"calibrate: no report in {rep.out}: {type(e).__name__}: {e}")
+    # validate.py's tables and plots of the start (OUT/before) and the fitted set (OUT/after)
+    for sub, p in (("before", start), ("after", fitted)):
+        rep = copy.copy(args)
+        rep.out = os.path.join(args.out, sub)
+        try:
+            import contextlib
+            import io
+            with contextlib.redirect_stdout(io.StringIO()):
+                validate.write_report(rep, validate.plan_runs(conds, args, p), db,
+                                      f"{'start' if sub == 'before' else 'fitted'} set "
+                                      f"({', '.join(f'{k} {p[k]:g}' for k, _, _ in fit)})")
+        except Exception as e:      # the calibration stands; the report of validate.py is extra
+            print(f"calibrate: no report in {rep.out}: {type(e).__name__}: {e}")
     print(f"calibrate: {os.path.join(args.out, 'fitted.args')} (for validate.py), fitted.var (-var lines for "
           f"in.cutting), calibration.json, table.md", flush=True)
     return 0
