@@ -71,7 +71,7 @@ log() { printf '[build-deps %(%H:%M:%S)T] %s\n' -1 "$*"; }
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO=sudo; fi
 APT_PKGS="cmake ninja-build g++ make libopenmpi-dev openmpi-bin libeigen3-dev dpkg-dev xz-utils
-  libgtest-dev python3 python3-numpy python3-matplotlib python3-venv"
+  libgtest-dev python3 python3-numpy python3-matplotlib python3-scipy python3-venv"
 install_debian_packages() {
   local missing=""
   for p in $APT_PKGS; do
