@@ -101,17 +101,9 @@ def parse_fit(items, start):
 def parse_weights(text):
     w = {}
     for kv in text.split(","):
-        if "=" not in kv:
-            raise InputError(f"--weights {kv}: expected TARGET=WEIGHT")
-        k, v = kv.split("=", 1)
-        if k not in TARGETS:
-            raise InputError(f"--weights {k}: unknown target (known: {', '.join(TARGETS)})")
-        try:
-            w[k] = float(v)
-        except ValueError:
-            raise InputError(f"--weights {k}={v}: not a number") from None
+        k, w[k] = validate.name_value(kv, "--weights", TARGETS, "TARGET=WEIGHT", "target")
         if not (math.isfinite(w[k]) and w[k] >= 0):
-            raise InputError(f"--weights {k}={v}: must be a finite number >= 0")
+            raise InputError(f"--weights {kv}: must be a finite number >= 0")
     if not any(v > 0 for v in w.values()):
         raise InputError(f"--weights {text}: no positive weight")
     return w

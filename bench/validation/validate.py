@@ -593,22 +593,28 @@ def plots(out, rows, title):
 
 
 # ---------------------------------------------------------------- command line
+def name_value(kv, option, known, expected="NAME=VALUE", noun="parameter"):
+    """an option's NAME=VALUE argument as (name, float): the name one of known, the value a number;
+    an InputError names the option"""
+    if "=" not in kv:
+        raise InputError(f"{option} {kv}: expected {expected}")
+    k, v = kv.split("=", 1)
+    if k not in known:
+        raise InputError(f"{option} {k}: unknown {noun} (known: {', '.join(known)})")
+    try:
+        return k, float(v)
+    except ValueError:
+        raise InputError(f"{option} {k}={v}: not a number") from None
+
+
 def parse_params(args):
     if args.set not in PARAM_SETS:
         raise InputError(f"--set {args.set}: unknown parameter set (known: {', '.join(sorted(PARAM_SETS))})")
     p = dict(PARAM_SETS[args.set])
     for kv in args.param or []:
-        if "=" not in kv:
-            raise InputError(f"--param {kv}: expected NAME=VALUE")
-        k, v = kv.split("=", 1)
-        if k not in KNOWN_PARAMS:
-            raise InputError(f"--param {k}: unknown parameter (known: {', '.join(sorted(KNOWN_PARAMS))})")
-        try:
-            p[k] = float(v)
-        except ValueError:
-            raise InputError(f"--param {k}={v}: not a number") from None
+        k, p[k] = name_value(kv, "--param", sorted(KNOWN_PARAMS))
         if not math.isfinite(p[k]):
-            raise InputError(f"--param {k}={v}: not finite")
+            raise InputError(f"--param {kv}: not finite")
     return p
 
 
