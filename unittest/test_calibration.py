@@ -20,6 +20,8 @@ import sys
 import tempfile
 import time
 
+from lmp_counter import lmp_counter    # this folder: a LAMMPS command that counts its runs
+
 try:
     import scipy  # noqa: F401
 except ImportError:
@@ -53,15 +55,7 @@ with open(good, "w") as f:
     f.write(HEADER + "A,318.5,0.05,100,3,70,3,20\nB,318.5,0.1,160,3,100,3,30\n")
 
 # ---- bad input: exit 2, a message naming the row or keyword, nothing created
-counter = os.path.join(work, "lmp-calls")
-wrapper = os.path.join(work, "lmp.sh")
-with open(wrapper, "w") as f:
-    f.write(f"#!/bin/sh\necho run >> {counter}\nexec {lmp} \"$@\"\n")
-os.chmod(wrapper, 0o755)
-
-
-def lmp_calls():
-    return len(open(counter).read().split()) if os.path.exists(counter) else 0
+wrapper, lmp_calls = lmp_counter(work, lmp)
 
 
 bad_data = [("missing column", HEADER.replace(",Ff_N,", ",", 1) + "A,318.5,0.05,100,3,3,20\n", "column(s) Ff_N missing"),

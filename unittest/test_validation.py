@@ -19,6 +19,8 @@ import subprocess
 import sys
 import tempfile
 
+from lmp_counter import lmp_counter    # this folder: a LAMMPS command that counts its runs
+
 lmp, root = sys.argv[1], sys.argv[2]
 runner = os.path.join(root, "bench", "validation", "validate.py")
 sys.path.insert(0, os.path.join(root, "bench", "validation"))
@@ -96,15 +98,7 @@ for opts, msg in ((["--param", "nope=1"], "--param nope: unknown parameter"),
 out = os.path.join(work, "out")
 coarse = ["--data", data, "--out", out, "--per-h", "4", "--per-rn", "1.4", "--cut-h", "1.6", "--cut-rn", "2",
           "--jobs", "2"]
-counter = os.path.join(work, "lmp-calls")
-wrapper = os.path.join(work, "lmp.sh")
-with open(wrapper, "w") as f:
-    f.write(f"#!/bin/sh\necho run >> {counter}\nexec {lmp} \"$@\"\n")
-os.chmod(wrapper, 0o755)
-
-
-def lmp_calls():
-    return len(open(counter).read().split()) if os.path.exists(counter) else 0
+wrapper, lmp_calls = lmp_counter(work, lmp)
 
 
 rc, txt = call("run", *coarse, "--limit", "1", "--lmp", wrapper)
