@@ -132,11 +132,22 @@ for r in rows:
           f"vc {r['vc']}: Fc {res['Fc']:.2f} is the steady mean of forces.dat over the last 60 % of {lmax:.3f} mm")
     check(50 < res["Fc"] < 400 and 5 < res["Ft"] < 300 and res["Fc"] > res["Ft"] * 0.5,
           f"vc {r['vc']}: physical forces Fc {res['Fc']:.1f} Ft {res['Ft']:.1f} N/mm")
+    # the feature split: rake face + edge + flank is the whole force on the tool (decomp.dat's
+    # lines every 100 steps against forces.dat's every 10: the means differ by sampling only)
+    for q in ("Fc", "Ft"):
+        parts = [res.get(f"{q}_{f}") for f in ("rake", "edge", "flank")]
+        check(None not in parts and abs(sum(parts) - res[q]) < 0.05 * abs(res[q]) + 3 * res["se_" + q],
+              f"vc {r['vc']}: {q} of rake + edge + flank {sum(p or 0 for p in parts):.1f} = {res[q]:.1f} N/mm")
+    check(float(r["Fc_rake_sim"]) > float(r["Fc_flank_sim"]), f"vc {r['vc']}: the rake face carries more Fc "
+          f"than the flank ({float(r['Fc_rake_sim']):.1f}, {float(r['Fc_flank_sim']):.1f})")
     f = inputs["massscale"]
     check(abs(f - max(1.0, (318.5 / float(r["vc"])) ** 2)) < 1e-12, f"vc {r['vc']}: mass scaling {f:.3f}")
 md = open(os.path.join(out, "table.md")).read()
-check("mean absolute error" in md and md.count("\n| 318.5 |") + md.count("\n| 100 |") == 2,
+main_table = md.split("Where the simulated thrust sits")[0]
+check("mean absolute error" in md and main_table.count("\n| 318.5 |") + main_table.count("\n| 100 |") == 2,
       "table.md: one row a condition and the mean absolute errors")
+check("Where the simulated thrust sits" in md and md.count("\n| 318.5 | ") + md.count("\n| 100 | ") == 4,
+      "table.md: the thrust by feature, one row a condition")
 
 if fails:
     print(f"{len(fails)} checks failed")

@@ -18,15 +18,21 @@ means of the steady part) and, for the uncertainty, also from the measured scatt
 r = sim / meas - 1 and var(r) = v, var(r^2) = 4 r^2 v + 2 v^2.  Two sets whose objectives differ by
 less than that noise are reported as indistinguishable.
 
-Optimiser: SciPy (scipy.optimize.minimize, method Nelder-Mead, on the parameters normalised to the
-box [0, 1]^d with bounds), started from the best point of a small Latin-hypercube design
-(scipy.stats.qmc, the start set is its first point).  Why: each evaluation is a set of cuts of
-seconds to minutes with a noisy result (a serrated chip swings the force by several N/mm); there is
-no gradient, and a finite-difference one would drown in that noise.  Nelder-Mead needs no
-derivative, takes a handful of evaluations per parameter, and tolerates noise at the scale of its
-simplex; the design's points run as one batch (candidates x conditions at once) and locate the
-basin.  SciPy is maintained, and Debian ships it (python3-scipy); a Bayesian optimiser would need
-another dependency for a gain at 1-3 parameters that was not measured here.
+Optimiser (SciPy, which Debian ships as python3-scipy; maintained, no further dependency):
+- --method lsq (the default): scipy.optimize.least_squares (trust-region reflective, bounds) on the
+  vector of per-condition relative errors whose squares add up to J.  The forces are smooth, nearly
+  linear functions of the material and friction inputs over a calibration's box, which a
+  least-squares method exploits: a Jacobian from forward differences at the start (--step of the box,
+  large against the forces' noise; the d candidates run as one batch), then Broyden's rank-one
+  update from each evaluation, so an iteration costs one candidate (the conditions at once).
+  Measured on the tests' tiny case: 6 evaluations against Nelder-Mead's 10 for one parameter.
+  --init N starts it from the best point of a Latin-hypercube design (a rough objective, a start
+  far from the optimum; the tests' coarse case needs it).
+- --method nelder-mead: scipy.optimize.minimize's Nelder-Mead on J, parameters normalised to the box
+  [0, 1]^d, from the best point of a Latin-hypercube design (scipy.stats.qmc, the start its first
+  point).  No derivative, tolerant of noise at the scale of its simplex; a handful of evaluations a
+  parameter more than lsq.
+A Bayesian optimiser would need another dependency for a gain at 1-3 parameters that was not measured.
 
 Uncertainty: the range of each parameter whose objective is within its noise (simulation and
 measured scatter) of the best: a quadratic fitted to the objective at the evaluated points nearest the
@@ -135,6 +141,7 @@ def objective(runs, db, weights):
     number of terms; None where a run is missing or failed"""
     tot = wsum = var_sim = var_all = 0.0
     n = 0
+    terms = []
     for r in runs:
         got = db.get(r["key"])
         if not got or got["status"] != "done":
@@ -145,6 +152,7 @@ def objective(runs, db, weights):
             if w == 0 or not meas or sim is None:
                 continue
             e = sim / meas - 1.0
+            terms.append((f"{c['vc']:g}/{c['h']:g}/{q}", w, e))
             vs = ((res.get("se_" + q) or 0.0) / meas) ** 2
             vm = (sim * (c.get("s" + q) or 0.0) / meas ** 2) ** 2
             tot += w * e * e
@@ -154,8 +162,9 @@ def objective(runs, db, weights):
             n += 1
     if wsum == 0:
         return None
+    # the residuals whose squares add up to J (the least-squares method's vector)
     return {"J": tot / wsum, "noise_sim": math.sqrt(var_sim) / wsum, "noise": math.sqrt(var_all) / wsum,
-            "terms": n}
+            "terms": n, "resid": {k: math.sqrt(w / wsum) * e for k, w, e in terms}}
 
 
 class Calibration:
@@ -212,7 +221,8 @@ class Calibration:
                 o = objective(rr, self.db, self.w)
                 ev = {"params": {k: p[k] for k, _, _ in self.fit}, "x": self.norm(p),
                       "J": o["J"] if o else FAILED_J, "noise_sim": o["noise_sim"] if o else None,
-                      "noise": o["noise"] if o else None, "failed": o is None}
+                      "noise": o["noise"] if o else None, "failed": o is None,
+                      "resid": o["resid"] if o else None}
                 self.cache[self.tkey(p)] = ev
                 self.evals.append(ev)
                 self.progress(ev)
@@ -240,6 +250,8 @@ class Calibration:
               if b else f"calibrate: evaluation {len(self.evals)}: {vals}: {j}", flush=True)
 
     def run(self):
+        if self.args.method == "lsq":
+            return self.run_lsq()
         from scipy.optimize import minimize
         from scipy.stats import qmc
         d = len(self.fit)
@@ -269,6 +281,95 @@ class Calibration:
             self.stop = f"budget of {self.args.budget} simulations spent"
         return self.best()
 
+    # ------------------------------------------------------------ least squares
+    def rvec(self, ev):
+        """the evaluation's residual vector in the order of the start's terms (a term missing in a
+        run, a chip thickness that could not be measured, takes the start's value: no pull either way)"""
+        import numpy as np
+        if ev["failed"]:
+            return np.full(len(self.rkeys), math.sqrt(FAILED_J / len(self.rkeys)))
+        return np.array([ev["resid"].get(k, self.r0.get(k, 0.0)) for k in self.rkeys])
+
+    def fd_jacobian(self, x, ev):
+        """forward differences of --step of the box along each axis (inwards at a bound), the d
+        candidates as one batch; the steps are the evaluated ones (after rounding)"""
+        import numpy as np
+        d = len(self.fit)
+        ys = []
+        for i in range(d):
+            y = list(x)
+            y[i] = y[i] + self.args.step if y[i] + self.args.step <= 1 else y[i] - self.args.step
+            ys.append(y)
+        evs = self.batch(ys)
+        J = np.zeros((len(self.rkeys), d))
+        r = self.rvec(ev)
+        for i, e in enumerate(evs):
+            dx = e["x"][i] - ev["x"][i]
+            J[:, i] = (self.rvec(e) - r) / dx
+        return J
+
+    def run_lsq(self):
+        """scipy.optimize.least_squares (trust-region reflective, bounds [0, 1]^d) on the residual
+        vector whose squares add up to J.  The Jacobian: forward differences at the start (d
+        candidates as one batch), then Broyden's rank-one update from each evaluation the optimiser
+        makes (--jacobian broyden, the default: one candidate an iteration), or forward differences
+        at every accepted point (--jacobian fd: d + 1 candidates an iteration)"""
+        import numpy as np
+        from scipy.optimize import least_squares
+        from scipy.stats import qmc
+        d = len(self.fit)
+        n = self.args.init if self.args.init is not None else 1
+        design = [self.norm(self.start)]
+        if n > 1:
+            design += [list(x) for x in qmc.LatinHypercube(d=d, seed=self.args.seed).random(n - 1)]
+        try:
+            # the start, or the best of a design (--init N: a rough objective or a start far away)
+            self.batch(design)
+            ev0 = self.best()
+            if ev0 is None:
+                self.stop = "the start set's runs failed"
+                return None
+            x0 = ev0["x"]
+            self.rkeys, self.r0 = sorted(ev0["resid"]), ev0["resid"]
+            state = {"J": None, "base": ev0, "seen": len(self.evals)}
+            self.jac_at = None
+
+            def evaluate(x):
+                return self.batch([list(x)])[0]
+
+            def fun(x):
+                return self.rvec(evaluate(x))
+
+            def jac(x, f=None):
+                ev = evaluate(x)
+                if state["J"] is None or self.args.jacobian == "fd":
+                    state["J"] = self.fd_jacobian(ev["x"], ev)
+                else:
+                    # Broyden: J += (dr - J s) s^T / s^T s for each evaluation since the last
+                    # Jacobian, against the last accepted point; then the current one
+                    J, b = state["J"], state["base"]
+                    xb, rb = np.array(b["x"]), self.rvec(b)
+                    for e in self.evals[state["seen"]:] + [ev]:
+                        sx = np.array(e["x"]) - xb
+                        if e is b or e["failed"] or float(sx @ sx) < 1e-12:
+                            continue
+                        J = J + np.outer(self.rvec(e) - rb - J @ sx, sx) / float(sx @ sx)
+                    state["J"] = J
+                state["base"], state["seen"] = ev, len(self.evals)
+                self.jac_at = (ev, state["J"])
+                return state["J"]
+
+            # stop when an iteration lowers J by less than the start's noise (a smaller gain cannot be
+            # told from the swing of the forces) or the step is below --xtol of the box
+            ftol = max(1e-8, min(0.1, (ev0["noise_sim"] or 0.0) / max(ev0["J"], 1e-30)))
+            sol = least_squares(fun, np.array(x0), jac=jac, bounds=(np.zeros(d), np.ones(d)), method="trf",
+                                x_scale=np.ones(d), ftol=ftol, xtol=self.args.xtol, gtol=1e-10,
+                                max_nfev=10 ** 4)
+            self.stop = f"converged ({sol.message})"
+        except BudgetSpent:
+            self.stop = f"budget of {self.args.budget} simulations spent"
+        return self.best()
+
     def uncertainty(self, best, dJ):
         """per parameter: (half-width, low, high) in its units and how it was found.  The interval
         covers the quadratic's (how far a parameter moves, the others following, before the objective
@@ -282,7 +383,14 @@ class Calibration:
         xb = np.array(best["x"])
         span = np.array([hi - lo for _, lo, hi in self.fit])
         quad = None
-        if len(pts) >= nq + 1 and dJ > 0:
+        gn = getattr(self, "jac_at", None)
+        if gn is not None and dJ > 0:
+            # the Gauss-Newton curvature of J = sum r^2 at the last Jacobian: J rises by
+            # s^T (Jr^T Jr) s, so parameter i moves by sqrt(dJ (Jr^T Jr)^-1_ii), the others following
+            A = gn[1].T @ gn[1]
+            if np.linalg.matrix_rank(A) == d:
+                quad = np.sqrt(dJ * np.diag(np.linalg.inv(A))) * span
+        if quad is None and len(pts) >= nq + 1 and dJ > 0:
             near = sorted(pts, key=lambda e: float(np.sum((np.array(e["x"]) - xb) ** 2)))[:max(nq + 2, 3 * nq)]
             X = np.array([e["x"] for e in near]) - xb
             cols = [np.ones(len(X))] + [X[:, i] for i in range(d)] + \
@@ -305,7 +413,9 @@ class Calibration:
             if quad is not None:
                 lo, hi = min(lo, v - quad[i]), max(hi, v + quad[i])
             out[k] = (max(v - lo, hi - v), lo, hi)
-        how = (f"quadratic fit to the {min(len(pts), max(nq + 2, 3 * nq))} evaluated sets nearest the best, "
+        how = ("the Gauss-Newton curvature of the residuals at the optimiser's last Jacobian, " if gn is not None
+               and quad is not None else
+               f"quadratic fit to the {min(len(pts), max(nq + 2, 3 * nq))} evaluated sets nearest the best, "
                if quad is not None else "the quadratic not resolved (too few sets or curvature not positive: "
                "a lower bound), ") + f"widened to the {len(within)} evaluated sets within the noise of the best"
         return out, how
@@ -350,8 +460,16 @@ def main(argv=None):
                     "candidates, stored ones counted too; default 200)")
     ap.add_argument("--maxiter", type=int, help="at most this many evaluations (sets --budget to MAXITER x conditions "
                     "if smaller)")
-    ap.add_argument("--init", type=int, help="points of the initial design, the start included (default 2 d + 1)")
-    ap.add_argument("--step", type=float, default=0.15, help="initial simplex step, a fraction of the box (0.15)")
+    ap.add_argument("--method", default="lsq", choices=("lsq", "nelder-mead"),
+                    help="lsq: least squares on the per-condition errors (SciPy least_squares), the default; "
+                    "nelder-mead: a derivative-free simplex on J after a Latin-hypercube design")
+    ap.add_argument("--jacobian", default="broyden", choices=("broyden", "fd"),
+                    help="lsq's Jacobian: forward differences at the start, then Broyden updates (one "
+                    "candidate an iteration; default), or forward differences at every accepted point")
+    ap.add_argument("--init", type=int, help="points of the initial design, the start included (default: "
+                    "nelder-mead 2 d + 1, lsq 1: the start only)")
+    ap.add_argument("--step", type=float, default=0.15, help="initial simplex step (nelder-mead) or the "
+                    "finite-difference step (lsq), a fraction of the box (0.15)")
     ap.add_argument("--xtol", type=float, default=0.01, help="stop when the simplex is this small (box fraction)")
     ap.add_argument("--seed", type=int, default=1, help="seed of the design and of the hold-out choice")
     ap.add_argument("--out", default="calibration-out", help="output folder (default calibration-out)")

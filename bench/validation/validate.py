@@ -258,6 +258,36 @@ class DB:
             return self.con.execute("select count(*) from runs").fetchone()[0]
 
 
+DECOMP_EVERY = 100      # steps between lines of decomp.dat
+FEATURES = ("rake", "edge", "flank")
+
+
+def feature_forces(path, from_mm):
+    """steady means of Fc and Ft [N/mm] carried by the rake face, the cutting edge and the flank
+    (fix contact/tri-penalty vector 16-39 in decomp.dat: per feature the normal force x y, the
+    friction force x y in N/m on the tool, then 4 counts); {} without the file"""
+    if not os.path.exists(path):
+        return {}
+    sums, n = [0.0] * 6, 0
+    for line in open(path):
+        if line.startswith("#") or not line.strip():
+            continue
+        v = [float(x) for x in line.split()]
+        if len(v) < 26 or v[1] < from_mm:
+            continue
+        for i in range(3):
+            b = 2 + 8 * i
+            sums[2 * i] += (v[b] + v[b + 2]) / 1000.0
+            sums[2 * i + 1] += (v[b + 1] + v[b + 3]) / 1000.0
+        n += 1
+    if not n:
+        return {}
+    out = {}
+    for i, f in enumerate(FEATURES):
+        out["Fc_" + f], out["Ft_" + f] = sums[2 * i] / n, sums[2 * i + 1] / n
+    return out
+
+
 def analyse(rundir, inputs, wall):
     """steady means (cut >= steady_from of the cut) with the standard error of 5 block means,
     the chip thickness from the dump, the run's size and loop time"""
@@ -278,6 +308,7 @@ def analyse(rundir, inputs, wall):
         res["loop_s"] = sum(float(x[0]) for x in m)
         res["steps"] = sum(int(x[1]) for x in m)
         res["atoms"] = int(m[-1][2])
+    res.update(feature_forces(os.path.join(rundir, "decomp.dat"), inputs["steady_from"] * lmax))
     dump = os.path.join(rundir, "dump.cutting")
     res["hchip"] = res["se_hchip"] = None
     if os.path.exists(dump):
@@ -332,7 +363,10 @@ def run_campaign(args, runs, db):
         # a dump frame about every 1/20 of the cut: the chip thickness over the steady part
         _, steps = estimate(r["inputs"])
         dumpevery = max(100, int(steps / 20 / 100) * 100) if args.chip else 0
-        cmd = lmp + ["-in", INPUT, "-log", "log.cutting", "-screen", "none"] + lmp_args(r["inputs"], dumpevery)
+        # the force on the tool by feature (rake face, cutting edge, flank: decomp.dat) beside
+        # forces.dat: an output, not an input of the run's key
+        cmd = lmp + ["-in", INPUT, "-log", "log.cutting", "-screen", "none"] + lmp_args(r["inputs"], dumpevery) \
+            + ["-var", "decomp", str(DECOMP_EVERY)]
         with open(os.path.join(rundir, "command"), "w") as f:
             f.write(shlex.join(cmd) + "\n")
         ts = time.time()
@@ -428,6 +462,9 @@ def results_table(runs, db):
             meas = row[q + "_meas"]
             row[q + "_err"] = (sim / meas - 1.0) if (sim is not None and meas) else None
         row["Trake_sim"] = res.get("Trake") if res else None
+        for f in FEATURES:
+            for q in ("Fc", "Ft"):
+                row[f"{q}_{f}_sim"] = res.get(f"{q}_{f}") if res else None
         row["input"] = res.get("input") if res else None
         row["loop_s"] = res.get("loop_s") if res else None
         row["steps"] = res.get("steps") if res else None
@@ -482,7 +519,8 @@ def write_report(args, runs, db, title):
     os.makedirs(args.out, exist_ok=True)
     cols = ["vc", "h", "rn_um", "n", "Fc_meas", "sFc_meas", "Fc_sim", "seFc_sim", "Fc_err", "Ft_meas", "sFt_meas",
             "Ft_sim", "seFt_sim", "Ft_err", "hchip_meas", "shchip_meas", "hchip_sim", "sehchip_sim", "hchip_err",
-            "Trake_sim", "atoms", "steps", "loop_s", "status", "input", "key", "tests"]
+            "Trake_sim"] + [f"{q}_{f}_sim" for f in FEATURES for q in ("Fc", "Ft")] + \
+           ["atoms", "steps", "loop_s", "status", "input", "key", "tests"]
     with open(os.path.join(args.out, "table.csv"), "w") as f:
         f.write(",".join(cols) + "\n")
         for r in rows:
@@ -531,6 +569,17 @@ def write_report(args, runs, db, title):
                          f"| {f['Fc', 'sim'][1]:.0f} | {f['Ft', 'meas'][0]:.0f} | {f['Ft', 'sim'][0]:.0f} "
                          f"| {f['Ft', 'meas'][1]:.0f} | {f['Ft', 'sim'][1]:.0f} "
                          f"| {f['Ft', 'meas'][1] / f['Fc', 'meas'][1]:.2f} | {f['Ft', 'sim'][1] / f['Fc', 'sim'][1]:.2f} |")
+    feat = [r for r in rows if r.get("Ft_rake_sim") is not None]
+    if feat:
+        lines += ["", "Where the simulated thrust sits: the steady Ft [N/mm] on the rake face, the cutting edge and "
+                  "the flank (fix contact/tri-penalty's decomposition, decomp.dat) beside the measured Ft and the "
+                  "deficit (measured - simulated):", "",
+                  "| vc m/min | h mm | Ft rake | Ft edge | Ft flank | Ft sim. | Ft meas. | deficit |",
+                  "|---|---|---|---|---|---|---|---|"]
+        for r in feat:
+            lines.append(f"| {r['vc']:g} | {r['h']:g} | {r['Ft_rake_sim']:.1f} | {r['Ft_edge_sim']:.1f} "
+                         f"| {r['Ft_flank_sim']:.1f} | {fmt(r['Ft_sim'], '.1f')} | {r['Ft_meas']:.1f} "
+                         f"| {fmt(r['Ft_sim'] is not None and r['Ft_meas'] - r['Ft_sim'] or None, '.1f')} |")
     with open(os.path.join(args.out, "table.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
