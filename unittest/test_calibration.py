@@ -161,6 +161,12 @@ check(s["J"] - f["J"] > s["noise_sim"] + f["noise_sim"] and "more than the simul
 table = open(os.path.join(out, "table.md")).read()
 check(table.count("\n| 318.5 |") == 2 and "| mu | 0.2 - 0.6 | 0.5 |" in table,
       "table.md: the fitted parameter and one row a condition")
+# ---- a deadline that leaves no time: exit 3, nothing run, the same command resumes
+n0 = lmp_calls()
+rc, txt = call(tool, *[os.path.join(work, "cal-dl") if a == out else a for a in base], "--deadline", "1")
+check(rc == 3 and "deadline reached" in txt and "the same command resumes" in txt and lmp_calls() == n0,
+      f"--deadline 1: exit 3, nothing run (rc {rc}, {lmp_calls() - n0} runs)")
+
 # ---- the other method, Nelder-Mead, reading the same database: the design's runs are reused
 out_nm = os.path.join(work, "cal-nm")
 t = time.time()

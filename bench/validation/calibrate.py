@@ -69,6 +69,22 @@ class BudgetSpent(Exception):
     pass
 
 
+class DeadlineReached(Exception):
+    pass
+
+
+def run_until_deadline(args, runs, db, t_end):
+    """validate.run_campaign within the --deadline; DeadlineReached where a run is left (killed at
+    the deadline, not stored: the same command later runs it)"""
+    if t_end:
+        args.deadline = t_end - time.time()
+        if args.deadline < args.min_left:
+            raise DeadlineReached()
+    validate.run_campaign(args, runs, db)
+    if any((db.get(r["key"]) or {}).get("status") not in ("done", "failed") for r in runs):
+        raise DeadlineReached()
+
+
 def sig(x, digits=4):
     return float(f"{x:.{digits}g}")
 
@@ -175,6 +191,7 @@ class Calibration:
         self.sims_run = self.sims_reused = 0
         self.sims_used = 0          # budget: conditions x distinct candidates (stored ones too)
         self.t0 = time.time()
+        self.t_end = self.t0 + args.deadline_s if args.deadline_s else 0
         self.wall_run = 0.0
 
     def params(self, x):
@@ -212,7 +229,7 @@ class Calibration:
                     runs[r["key"]] = r
             stored = sum(1 for k in runs if (self.db.get(k) or {}).get("status") in ("done", "failed"))
             t = time.time()
-            validate.run_campaign(self.args, list(runs.values()), self.db)
+            run_until_deadline(self.args, list(runs.values()), self.db, self.t_end)
             self.wall_run += time.time() - t
             self.sims_run += len(runs) - stored
             self.sims_reused += stored
@@ -471,6 +488,9 @@ def main(argv=None):
     ap.add_argument("--step", type=float, default=0.15, help="initial simplex step (nelder-mead) or the "
                     "finite-difference step (lsq), a fraction of the box (0.15)")
     ap.add_argument("--xtol", type=float, default=0.01, help="stop when the simplex is this small (box fraction)")
+    ap.add_argument("--deadline", dest="deadline_s", type=float, default=0,
+                    help="stop this many seconds after the start (runs not finished are not stored; the "
+                    "same command again resumes), exit 3; default: none")
     ap.add_argument("--seed", type=int, default=1, help="seed of the design and of the hold-out choice")
     ap.add_argument("--out", default="calibration-out", help="output folder (default calibration-out)")
     # validate.py's options (the same names and defaults)
@@ -543,17 +563,25 @@ def main(argv=None):
           + ", ".join(f"{k} in [{lo:g}, {hi:g}] from {start[k]:g}" for k, lo, hi in fit)
           + f"; budget {args.budget} simulations, {args.jobs} at a time; runs in {args.db}", flush=True)
     cal = Calibration(args, start, fit, fit_conds, db, weights)
-    best = cal.run()
+    try:
+        best = cal.run()
+        if best is not None:
+            # the start and the fitted set on every condition (the held-out ones run now)
+            fitted = dict(start, **best["params"])
+            allruns = {}
+            for p in (start, fitted):
+                for r in validate.plan_runs(conds, args, p):
+                    allruns[r["key"]] = r
+            run_until_deadline(args, list(allruns.values()), db, cal.t_end)
+    except DeadlineReached:
+        b = cal.best()
+        print(f"calibrate: deadline reached after {time.time() - cal.t0:.0f} s, {len(cal.evals)} evaluations, "
+              f"{cal.sims_run} simulations run" + (f", best J {b['J']:.4g} ({b['params']})" if b else "")
+              + "; the same command resumes (stored runs are reused)", flush=True)
+        return 3
     if best is None:
         print("calibrate: every evaluation failed (see the runs' logs under OUT/runs)", file=sys.stderr)
         return 1
-    fitted = dict(start, **best["params"])
-    # the start and the fitted set on every condition (the held-out ones run now)
-    allruns = {}
-    for p in (start, fitted):
-        for r in validate.plan_runs(conds, args, p):
-            allruns[r["key"]] = r
-    validate.run_campaign(args, list(allruns.values()), db)
     ob = {name: {part: objective(validate.plan_runs(cs, args, p), db, weights) if cs else None
                  for part, cs in (("fit", fit_conds), ("holdout", held))}
           for name, p in (("start", start), ("fitted", fitted))}
