@@ -1,8 +1,12 @@
 /* -*- c++ -*- ----------------------------------------------------------
    sphcut - material and per-pair physics of the solid SPH scheme
-   (host and device).  Equation numbers: seed 003 = Afrasiabi et al.,
-   "SPH simulation of orthogonal cutting with enhanced thermal modeling";
-   seed 000 = Fraser et al., "thermo-mechanical contact in SPH".
+   (host and device).  Equation numbers ("seed 003", "seed 000" in the
+   comments of sphcut): seed 003 = Afrasiabi, Klippel, Roethlin, Wegener,
+   "Smoothed particle hydrodynamics simulation of orthogonal cutting with
+   enhanced thermal modeling", Appl. Sci. 11 (2021) 1020,
+   doi:10.3390/app11031020; seed 000 = K. A. Fraser et al., thermo-mechanical
+   penalty contact for multi-physics SPH in 3D (conference paper; see the
+   references of doc/theory.md).
 ------------------------------------------------------------------------- */
 
 #ifndef SPHCUT_MATERIAL_H

@@ -194,7 +194,7 @@ std::array<double, 2> doc_balance(const std::string &page)
 }
 
 // the quick cut (11 across, 0.12 mm), with the example's spall release and with spall cutoff.  Its
-// energy balance is the figure that doc/fix_contact_tri_penalty.rst ("Energy: time step and XSPH"),
+// energy balance is the figure that doc/fix_contact_tri_penalty.rst (Description, "Contact"),
 // doc/pair_sph_jc_thermal.rst (spall) and doc/validation.md (Tests) cite: each page's two figures
 // must be within 3x of what this test measures (and prints), so that they cannot drift.  Measured
 // +5.15e-4 with release (the stress of a particle that crosses pmin switches off and on within one

@@ -1,16 +1,14 @@
 #!/usr/bin/env bash
-# The full-length cuts of examples/cutting-2d-ti6al4v on the device machine's CPU cores
-# (16 cores, MPI; no network).  Runs of more than the 10 minutes one device command may
-# take are split with the example's restart support (-var walltime / -var continue).
-#   bash bench/cutting/device-cut.sh start      build LAMMPS + plugin (bench/gpu/common.sh's build,
-#                                               from .carry/sphcut-sources.tar.gz, once per machine;
-#                                               the CPU styles run without -k on), start the runs
+# The full-length cuts of examples/cutting-2d-ti6al4v on the CPU cores (MPI) of the GPU machine
+# (the figures: 16 cores), with the LAMMPS of the GPU build (README, "GPU build":
+# build-cuda/lmp_sphcut; the CPU styles run without -k on).  Long runs are split in segments of
+# WALL seconds with the example's restart support (-var walltime / -var continue):
+#   bash bench/cutting/device-cut.sh start      start the runs
 #   bash bench/cutting/device-cut.sh continue   continue every unfinished run from its restart
 # Environment: NY (particles across, default 21), CUT (m, default 2e-3), MUS (friction
 # coefficients run side by side, default "0.35 0.65"), NP (ranks per run, default cores/runs),
-# WALL (seconds of run per call, default 420).  Runs in /tmp/cut/run-ny*-mu* (kept while the
-# machine stays warm); each run's output goes to $OUT as one archive.
-# The sources: bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
+# WALL (seconds of run per segment, default 420).  Runs in /tmp/cut/run-ny*-mu*; each run's
+# output goes to $OUT as one archive.
 set -euo pipefail
 MODE="${1:-start}"
 NY="${NY:-21}"; CUT="${CUT:-2e-3}"; MUS="${MUS:-0.35 0.65}"; WALL="${WALL:-420}"

@@ -7,9 +7,8 @@
 # ./sensitivity-out), ONLY a space-separated subset of the variant names (also of EXTRA_NAMES,
 # run only when named).  A finished variant (its log has "Total wall time") is not rerun:
 # delete its folder to repeat it.
-# On the device machine's 16 cores (through the device tool, carry .carry; the build is
-# bench/gpu/common.sh's, once per machine): DEVICE=1, e.g. the 21-across study of
-# doc/validation.md:
+# On the cores of a GPU machine with the GPU build (README, "GPU build": build-cuda/lmp_sphcut):
+# DEVICE=1, e.g. the 21-across study of doc/validation.md (16 cores):
 #   DEVICE=1 NY=21 CUT=0.5e-3 JOBS=8 DUMPEVERY=0 ARGS="-var walltime 480" \
 #     ONLY="base coulomb no-conduction eta0 hdx1.5 sfac2 mu0.65-coulomb heatevery1" bash bench/cutting/sensitivity.sh
 # Variants of what the input has no -var for (the artificial viscosity, XSPH, vreg, the

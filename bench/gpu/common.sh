@@ -1,8 +1,7 @@
-# Sourced by the device scripts of bench/ (gpu/*.sh, cutting/device-cut.sh, cutting/sensitivity.sh
-# with DEVICE=1): environment, the
-# summary writer say(), the LAMMPS binary lmp(), run_modes() and build(), which builds Kokkos + LAMMPS with
-# CUDA and the plugin on the device machine from .carry/sphcut-sources.tar.gz (once per machine).
-# Expects ROOT.
+# Sourced by the GPU scripts of bench/ (gpu/*.sh, cutting/device-cut.sh, cutting/sensitivity.sh
+# with DEVICE=1): environment, the summary writer say(), the LAMMPS binary lmp() (build-cuda/lmp_sphcut,
+# built as in README "GPU build"), run_modes() and build(), which builds it only where it is missing
+# (from a packed source tree in .carry/, for machines without network).  Expects ROOT.
 OUT="${OUT:-$PWD/gpu-out}"
 mkdir -p "$OUT"
 NJ=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)    # (nproc follows OMP_NUM_THREADS, exported below: a second script sourcing this would build on one core)

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Cutting on the GPU: all sphcut styles under /kk (pair, fix sph/jc-thermal, fix heat/fmfs,
-# compute surface/lambda, fix contact/tri-penalty) on the device machine (one H100).  Make the
-# sources here first:  mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
-# then through the device tool (carry .carry):  bash bench/gpu/cutting.sh MODE [MODE ...]
+# compute surface/lambda, fix contact/tri-penalty) on a machine with an NVIDIA GPU and CUDA (the
+# figures: one H100).  Build the GPU plugin first (README, "GPU build": build-cuda/lmp_sphcut), then
+# from the repository root:  bash bench/gpu/cutting.sh MODE [MODE ...]
 #   check    CPU (1 rank, CPU styles) vs GPU per-atom state after 1000 steps in contact: the 2D
 #            quick cut (11 across) and the 3D cut with free sides (6 across, 3 layers); <= 1e-8; the
 #            same with the pair's hourglass 0.1; CHECK_VARS more -var settings (e.g. "-var precision
@@ -24,7 +24,7 @@
 #            (NCU_PRINT_SOURCE=cuda: the source lines, with a plugin built with SPHCUT_CXX_FLAGS=-lineinfo)
 #   rate2d   the 2D cut at NY (default 41) across for STEPS steps in contact: wall time per step
 #   cut2d    the 2D cut at NY across over CUT (default 2e-3 m) of cut: wall time, steady forces; in
-#            segments with CUT_END (restart files, continued by the next call)
+#            segments with CUT_END (restart files in $OUT, continued by the next run)
 #   lowspeed the low-speed case (seed 003 sec. 5.2.2: vc 20 m/min, 0.3 mm of cut) at NY across with
 #            cut2d's segments and CUT_ARGS: the mean rake-face temperature (measured about 680 K)
 #   watch    the 2D cut at NY across until a particle runs away: the state, its history, GPU vs CPU
@@ -35,11 +35,10 @@
 #            BENCH_NZ layers (58 232), BENCH_STEPS (200), BENCH_ARGS more -var settings
 #   chip3d   the 3D cut with free sides at NYC across, NZC layers, over CUTC of cut (or CHIP_WALL
 #            seconds), tool start XSTARTC; the last frame (chip3d.dump.gz) for tools/render_chip.py; in
-#            segments with CHIP_END (the epoch second the call must end by): restart.cutting in
-#            $OUT/chip3d-NYC-NZC/, continued by the next call from there or from .carry/chip3d-NYC-NZC/
-#            (about 600 bytes a particle: the carry's 64 MiB hold some 70,000 beside the sources; a
-#            larger cut goes on only on a machine still warm from the last call, from /tmp/cut)
-#   peer     the peer code (../shared/peer/, its binary in .carry/peer/) and sphcut on the seed-003
+#            segments with CHIP_END (the epoch second the segment must end by): restart.cutting in
+#            $OUT/chip3d-NYC-NZC/ (about 600 bytes a particle), continued by the next run from there
+#            (or from /tmp/cut; see chip3d() below)
+#   peer     the peer code (ETH IWF's 2D GPU cutting code; where its binary goes: peer() below) and sphcut on the seed-003
 #            case at PEER_NY (41) across over 0.907 mm, one after the other: time, us/step, forces
 #   timeline the 2D cut at PROF_NY (41) across, PROF_STEPS (3000) steps in contact under Nsight Systems
 #            (when nsys is on the machine): kernel time per step against the wall time per step, the
@@ -56,7 +55,7 @@
 #            style; STEPCOST_ARGS more lmp arguments (e.g. "-var dtevery 1"), STEPCOST_TAG a log suffix
 #   lanes    the 2D cut in contact at LANES_NY (21 41 81) across with 1, 2, 4, 8 lanes per particle in
 #            the pair's neighbour pass and with the default choice, in turn (LANES_SET, LANES_REPS): us/step
-#   ab       speed of this tree (A) against a baseline (B: .carry/b-src.tar.gz, build_b of common.sh),
+#   ab       speed of this tree (A) against a baseline (B: a git archive of another commit, build_b of common.sh),
 #            in turn AB_REPS times (default 2): the 2D cut in contact at AB_NY (41) across, PROF_STEPS
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
 #            steps (particle-steps/s), AB_NY= or AB_NZ= (empty) leaving that part out; AB_KP=NZ:
@@ -69,7 +68,7 @@
 #            without Tmax and Trake; no fix print) and every 100, in turn OUT_REPS (2) times; then
 #            SPHCUT_OUTPUT_SYNC 0 / 1 at every 10 steps (whole state rows and fix print's ALL_MASK,
 #            or the output columns); with OUT_NZ layers (e.g. 58) the 3D slab the same way
-#   outab    what a line of forces.dat costs, this tree (A) against a baseline (B: .carry/b-src.tar.gz),
+#   outab    what a line of forces.dat costs, this tree (A) against a baseline (B, as for ab),
 #            each with its own example inputs, in turn OUT_REPS (2) times: the 3D slab (41 across,
 #            OUT_NZ (58) layers, 200 steps) and the 2D cut at OUT_NY (41) across (2000 steps in
 #            contact), a line every 10 and every 100 steps (thermo every 1000); A also every 1000

@@ -1,13 +1,12 @@
 #!/usr/bin/env bash
-# GPU foundation check, run on the device machine (one H100, CUDA 13, no network):
-#   1. Kokkos 3.4.01 (CUDA, the five fixes in tools/build-deps.sh) + LAMMPS, from the
-#      trimmed Debian sources made here with
-#        mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
-#   2. the sphcut plugin against that LAMMPS (the /kk registration compiled with nvcc_wrapper)
-#      (1 and 2: build() of bench/gpu/common.sh, the one device build)
+# GPU foundation check, on a machine with an NVIDIA GPU and CUDA (the figures: one H100, CUDA 13):
+#   1. Kokkos 3.4.01 (CUDA, the fixes in tools/build-deps.sh) + LAMMPS, and
+#   2. the sphcut plugin against that LAMMPS (the /kk registration compiled with nvcc_wrapper):
+#      build them first as in README, "GPU build" (bash tools/build-deps.sh --cuda, then
+#      build-cuda/); the script uses build-cuda/lmp_sphcut
 #   3. the LJ melt benchmark, 864,000 atoms: GPU (-k on g 1 -sf kk) and one CPU core
 # Results (timings, logs) go to $OUT (or ./gpu-out).
-# Usage on the device: bash bench/gpu/foundation.sh [steps_gpu] [steps_cpu]
+# Usage, from the repository root: bash bench/gpu/foundation.sh [steps_gpu] [steps_cpu]
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 STEPS_GPU="${1:-1000}"

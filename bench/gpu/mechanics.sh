@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The mechanical step on the GPU (pair sph/jc-thermal/kk + fix sph/jc-thermal/kk), run on the
-# device machine (one H100, 16 cores, no network).  Make the sources here first:
-#   mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
-# then through the device tool (carry .carry):  bash bench/gpu/mechanics.sh MODE [MODE ...]
+# a machine with an NVIDIA GPU and CUDA (the figures: one H100, 16 cores).  Build the GPU plugin
+# first (README, "GPU build": build-cuda/lmp_sphcut), then from the repository root:
+#   bash bench/gpu/mechanics.sh MODE [MODE ...]
 #   check   CPU (1 rank) vs GPU state after 100 steps of a 3D plastic collision (<= 1e-8 relative);
 #           a GPU run split by a restart vs the unsplit one
 #   bench   block collision at 0.1, 1, 4 and 16 M particles: particle-steps/s on the GPU (FP64),

@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # Cutting on several GPUs (issue 26): LAMMPS MPI + Kokkos, one rank per GPU (mpirun -np N with
-# -k on g N -sf kk), on the device kinds with several GPUs (nvidia-h100-x2/-x4 or their H200
-# counterparts).  Make the sources here first:
-#   mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
-# then through the device tool (carry .carry):  bash bench/gpu/multigpu.sh MODE [MODE ...]
+# -k on g N -sf kk), on a machine with several NVIDIA GPUs and CUDA (the figures: 2 and 4 H100 or
+# H200).  Build the GPU plugin first (README, "GPU build": build-cuda/lmp_sphcut), then from the
+# repository root:  bash bench/gpu/multigpu.sh MODE [MODE ...]
 #   check2   2 GPUs vs 1 GPU: the 2D quick cut (11 across) and the 3D cut with free sides (6 across,
 #            3 layers) for 1500 steps (tool in contact), then on 2 ranks the rank boundary put just
 #            ahead of the tool's leading particle column (balance x) and 1000 steps more, so that tool

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Taylor bar convergence on one GPU (examples/taylor-bar/in.taylor: copper, 227 m/s, 80 us; two
-# mirrored bars = a rigid frictionless wall), run on the device machine.  Make the sources here first:
-#   mkdir -p .carry && bash tools/build-deps.sh --no-apt --pack-sources .carry/sphcut-sources.tar.gz
-# then through the device tool (carry .carry):  bash bench/gpu/taylor.sh [MODE ...]
+# mirrored bars = a rigid frictionless wall), on a machine with an NVIDIA GPU and CUDA.  Build the
+# GPU plugin first (README, "GPU build": build-cuda/lmp_sphcut), then from the repository root:
+#   bash bench/gpu/taylor.sh [MODE ...]
 #   conv  (default) the bar at each spacing of TAYLOR_DX (default 0.4e-3 0.2e-3 0.141e-3 0.1e-3 m) with
 #         the settings of TAYLOR_BEST, then at each of TAYLOR_DEFAULT_DX (default 0.4e-3 0.2e-3
 #         0.141e-3) with the example's defaults; a line each: dx, particles, steps, loop time, final

@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
-# The validation campaign on one GPU: builds like bench/gpu/*.sh (bench/gpu/common.sh), starts the
+# The validation campaign on one GPU, on a machine with an NVIDIA GPU and CUDA: build the GPU plugin
+# first (README, "GPU build": build-cuda/lmp_sphcut), then from the repository root
+#   bash bench/validation/gpu.sh
+# (about 4 minutes of one H100 per parameter set: the 72 tests of the dataset).  It starts the
 # CUDA MPS daemon where it exists (several small cuts share the GPU: bench/gpu/cutting.sh concurrent),
 # runs one short cut to fill the CUDA JIT cache, then for each parameter set of VAL_SETS
 # `validate.py run` with VAL_JOBS runs at a time until VAL_END (an epoch second; runs still going
-# then are stopped and rerun by the next call: finished ones stay in the database).
+# then are stopped and rerun by the next start: finished ones stay in the database).
 #   VAL_SETS   ;-separated argument lists of validate.py (default "--set seed003")
 #   VAL_ARGS   arguments for every set (e.g. "--vc 318.5,100")
 #   VAL_JOBS   runs at a time (default 16)
-#   VAL_DB     the runs database (default $OUT/runs.sqlite; a database from an earlier call:
-#              .carry/validation.sqlite is copied there first)
+#   VAL_DB     the runs database (default $OUT/runs.sqlite; give an earlier database to continue it)
 #   VAL_END    epoch second by which the script ends (default: 9 minutes from its start)
 #   FIG6_NY    also seed 003's Figure 6 beside the campaign: the example's cut (h 0.1 mm, the measured
 #              edge) at FIG6_NY across over FIG6_CUT (2e-3 m) for each mu of FIG6_MUS (0.35 0.5 0.65),

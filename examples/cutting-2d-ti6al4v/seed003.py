@@ -1,4 +1,6 @@
-"""The seed-003 cutting case's reference figures (Afrasiabi et al. 2021, ../../../shared/seeds/),
+"""The seed-003 cutting case's reference figures (Afrasiabi, Klippel, Roethlin, Wegener, "Smoothed
+particle hydrodynamics simulation of orthogonal cutting with enhanced thermal modeling", Appl. Sci.
+11 (2021) 1020, doi:10.3390/app11031020),
 in one place for the example's scripts and bench/ (steady.py, plot.py, bench/cutting/*.py,
 bench/pareto/run.sh, bench/cutting/sensitivity.sh), and the steady-state window they all use.
 The geometry and speed must match in.cutting (variables h, rn, H and vc)."""
