@@ -4,9 +4,9 @@
    comments of sphcut): seed 003 = Afrasiabi, Klippel, Roethlin, Wegener,
    "Smoothed particle hydrodynamics simulation of orthogonal cutting with
    enhanced thermal modeling", Appl. Sci. 11 (2021) 1020,
-   doi:10.3390/app11031020; seed 000 = K. A. Fraser et al., thermo-mechanical
-   penalty contact for multi-physics SPH in 3D (conference paper; see the
-   references of doc/theory.md).
+   doi:10.3390/app11031020; seed 000 = Fraser, St-Georges, Kiss, Chiricota,
+   "Hybrid thermo-mechanical contact algorithm for 3D SPH-FEM multi-physics
+   simulations", PARTICLES 2015, Barcelona (references of doc/theory.md).
 ------------------------------------------------------------------------- */
 
 #ifndef SPHCUT_MATERIAL_H
