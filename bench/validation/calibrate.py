@@ -76,12 +76,16 @@ class DeadlineReached(Exception):
 def run_until_deadline(args, runs, db, t_end):
     """validate.run_campaign within the --deadline; DeadlineReached where a run is left (killed at
     the deadline, not stored: the same command later runs it)"""
+    def stored(r):
+        return (db.get(r["key"]) or {}).get("status") in ("done", "failed")
+    if all(stored(r) for r in runs):
+        return
     if t_end:
         args.deadline = t_end - time.time()
         if args.deadline < args.min_left:
             raise DeadlineReached()
     validate.run_campaign(args, runs, db)
-    if any((db.get(r["key"]) or {}).get("status") not in ("done", "failed") for r in runs):
+    if not all(stored(r) for r in runs):
         raise DeadlineReached()
 
 
@@ -575,9 +579,17 @@ def main(argv=None):
             run_until_deadline(args, list(allruns.values()), db, cal.t_end)
     except DeadlineReached:
         b = cal.best()
+        if b:
+            # the best set so far for validate.py (best.args), e.g. its held-out conditions in another call
+            os.makedirs(args.out, exist_ok=True)
+            with open(os.path.join(args.out, "best.args"), "w") as f:
+                f.write(f"--set {args.set} " + " ".join(f"--param {k}={v!r}" for k, v in
+                                                        sorted(dict(start, **b["params"]).items())) + "\n")
         print(f"calibrate: deadline reached after {time.time() - cal.t0:.0f} s, {len(cal.evals)} evaluations, "
-              f"{cal.sims_run} simulations run" + (f", best J {b['J']:.4g} ({b['params']})" if b else "")
-              + "; the same command resumes (stored runs are reused)", flush=True)
+              f"{cal.sims_run} simulations run, {cal.sims_used} of the budget used"
+              + (f", best J {b['J']:.4g} ({b['params']}; OUT/best.args)" if b else "")
+              + "; the same command resumes (stored runs are reused; --budget "
+              f"{cal.sims_used} reports what is stored)", flush=True)
         return 3
     if best is None:
         print("calibrate: every evaluation failed (see the runs' logs under OUT/runs)", file=sys.stderr)
