@@ -86,8 +86,8 @@ enum { A_QWORK = 0, A_QLOST, A_QTOOL, A_QSRC, A_QLUMP, A_TWORK, A_DISS, NACCUM }
 enum { C_NREC = NRED + NACCUM, S_RUN = C_NREC + 2, NSUMS = S_RUN + R_DTCRIT };
 
 // the kernel reduces only the smallest spring dt (a scalar: Kokkos 3.4 reduces an array of sums in a
-// shared-memory tree whose cost grows with the sums, 16 us a launch for 12 against 7.7 for one on
-// an H100: bench/gpu/launch, RESULTS.md "The launch floor"); the sums go by atomics, and final
+// shared-memory tree whose launch costs more with each sum: bench/gpu/launch, RESULTS.md "The
+// launch floor"); the sums go by atomics, and final
 // (one thread after all the others) publishes them as the step's
 template <class DeviceType> struct ContactKernel {
   typedef DeviceType device_type;
@@ -120,8 +120,7 @@ template <class DeviceType> struct ContactKernel {
   Kokkos::View<double *, mem> facc;    // tool fields per facet: the running interval's sums
   Kokkos::View<const int *, mem> xoff, xnb;    // the cross neighbours (cross_build): a candidate's tool neighbours
   int reset;                           // zero the accumulators first (fetch() has read them)
-  Kokkos::View<const int *, mem> near;  // the particles to evaluate (near_build), when use_near
-  int use_near;
+  Kokkos::View<const int *, mem> near;  // the particles to evaluate (near_build)
 
   KOKKOS_INLINE_FUNCTION void init(value_type &dtcrit) const { dtcrit = 1.0e300; }
   KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type &d, const SPHCUT_KK_VOLATILE value_type &s) const
@@ -227,7 +226,7 @@ template <class DeviceType> struct ContactKernel {
 
   KOKKOS_INLINE_FUNCTION void operator()(const int ii, value_type &dtcrit) const
   {
-    const int i = use_near ? near(ii) : ii;
+    const int i = near(ii);
     qtw(i, 0) = 0.0;
     const bool candidate = bits.candidate(mask(i));
     double r[NRED];    // this particle's share of the sums
@@ -414,9 +413,6 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix contact/tri-penalty/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   integ = dynamic_cast<FixSPHJCThermalKokkos<DeviceType> *>(fix);
-  // SPHCUT_GATHER_FOLD=0 (environment): the tool-heat gather in a kernel of its own (the A/B)
-  fold_gather = sphcut::env_switch(lmp, "SPHCUT_GATHER_FOLD", "Fix contact/tri-penalty/kk", 1);
-  near_on = sphcut::env_switch(lmp, "SPHCUT_CONTACT_NEAR", "Fix contact/tri-penalty/kk", 1);
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix contact/tri-penalty/kk");
   near_calls = -1;    // built again at the setup
   if (heat && !heat->kokkosable)
@@ -547,13 +543,9 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
     k.xnb = d_xnb;
   }
   k.reset = reset_accum;
-  k.use_near = near_on;
-  int nwork = atom->nlocal;
-  if (near_on) {
-    near_build(k.step);
-    k.near = d_near;
-    nwork = nnear;
-  }
+  near_build(k.step);
+  k.near = d_near;
+  const int nwork = nnear;
   k.dtlim = fixkk->dt_slot_view<DeviceType>(this);
   k.dtscale = dtfac * fixkk->courant();
   fixkk->k_dtlim.template sync<DeviceType>();
@@ -728,7 +720,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
    around them, kernel weighted (sphcut::ToolHeatGather; the CPU fix scatters it from the contact
    particle's side): in fix sph/jc-thermal/kk's corrector kernel of this step (or of the next
    step's first half, with the positions of the local particles from qtw) when it takes it
-   (not at a setup; SPHCUT_GATHER_FOLD=0 never hands it over), else here, a kernel over the tool
+   (not at a setup, nor when another style's gather holds this step), else here, a kernel over the tool
    particles next to non-tool ones (the others have no contact particle around them), each over
    its non-tool neighbours in the list's order */
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
@@ -753,7 +745,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   g.hij = d_hij;
   g.qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
   fixkk->k_state.template modify<DeviceType>();
-  if (fold_gather && integ && integ->take_tool_heat_gather(this, g)) return;
+  if (integ && integ->take_tool_heat_gather(this, g)) return;
   auto xtool = d_xtool;
   Kokkos::parallel_for("sphcut:contact:tool_heat_gather", sphcut::range<DeviceType>(0, nxtool),
                        KOKKOS_LAMBDA(const int t) { g(xtool(t)); });

@@ -81,15 +81,12 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   typedef typename DeviceType::memory_space mem;
   FixSPHJCThermalKokkosBase *fixkk;
   FixSPHJCThermalKokkos<DeviceType> *integ = nullptr;    // fixkk on this device type (the gather's hand-off)
-  int fold_gather = 1;                           // SPHCUT_GATHER_FOLD (1, or 0: the gather's own kernel)
   // the particles the contact kernel evaluates (near_build): the local contact candidates within
   // a slack (twice the neighbour skin) of the tool's bin grid (tool frame), which holds every point
   // within the search radius 2h of the tool; built at each setup and reneighbouring and when the
   // tool has moved half the slack since.  The others have no contact state to clear (a particle
   // in contact stays in the list until it is farther than the slack from the grid) and find no
-  // element: the kernel skips them.  SPHCUT_CONTACT_NEAR=0 (environment): every local particle,
-  // for the A/B
-  int near_on = 1;
+  // element: the kernel skips them
   bool wide = false;    // its kernel on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
   Kokkos::View<double *, typename DeviceType::memory_space> d_wide_acc;    // the wide path's accumulator
   Kokkos::View<int *, mem> d_near;

@@ -140,7 +140,7 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   FixHeatFMFS::init();
   sphcut::kokkos_full_list<DeviceType>(neighbor);
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix heat/fmfs/kk");
-  eager = sphcut::env_switch(lmp, "SPHCUT_HEAT_EAGER", "Fix heat/fmfs/kk", sphcut::on_host_backend<DeviceType>() ? 0 : 1);
+  eager = sphcut::load_ahead<DeviceType>(lmp, "Fix heat/fmfs/kk");
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix heat/fmfs/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
   surfkk = nullptr;
@@ -555,9 +555,8 @@ void FixHeatFMFSKokkos<DeviceType>::scheme_pass_kk(const HeatFMFSViews<DeviceTyp
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
       }, fin);
   // compiled with launch bounds of 128 threads a block, 3 blocks a multiprocessor: 168 registers in
-  // 3D, no spill (174 without; on one H100 at 1.06 M particles 2859 against 3998 us a call,
-  // bench/gpu/RESULTS.md "The reductions over the particles"; 4 blocks: 128 registers, 784 bytes
-  // of spill)
+  // 3D, no spill (174 without; bench/gpu/RESULTS.md "Launch bounds"; 4 blocks: 128 registers,
+  // 784 bytes of spill)
   sphcut::reduce<DeviceType, 3, 3>("sphcut:heat:weights", list->inum, pass,
                                    wide,
                                    Kokkos::subview(d_red, std::make_pair(0, 3)), d_wide_acc);

@@ -91,7 +91,7 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
                                                                           // (shared: their inits are all zero)
   bool wide = false;    // the reductions on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
   // the conservative passes load a neighbour's whole row before its support test (DeviceNeighbours'
-  // EAGER): on a GPU by default, SPHCUT_HEAT_EAGER (0 or 1) overrides; init
+  // EAGER): on a GPU (sphcut::load_ahead, SPHCUT_LOAD_AHEAD; init)
   bool eager = false;
   double loss_weight = 0.0;     // the time the current rates have acted for since the device's last sum
   double replaced_weight = 0.0;    // the weight the rates an evaluation replaces still take (its final)

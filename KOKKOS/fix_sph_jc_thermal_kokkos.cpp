@@ -405,25 +405,23 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   if (!force->pair_match("^sph/jc-thermal", 0)->kokkosable)
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
   pairkk = dynamic_cast<PairSPHJCThermalKokkos<DeviceType> *>(force->pair_match("^sph/jc-thermal", 0));
-  prepack = pairkk && sphcut::env_switch(lmp, "SPHCUT_PAIR_PREPACK", "Fix sph/jc-thermal/kk", 1) && prepack_allowed();
-  output_sync = sphcut::env_switch(lmp, "SPHCUT_OUTPUT_SYNC", "Fix sph/jc-thermal/kk", 1);
-  clear_f = sphcut::env_switch(lmp, "SPHCUT_FORCE_CLEAR", "Fix sph/jc-thermal/kk", 1) && force_clear_allowed();
-  // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1 forces)
-  stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1);
-  // on a host backend teams of 2 threads instead of 1 (SPHCUT_STAGE_TEAM=1: the tests of the
-  // staged kernels' team reductions)
-  host_team = sphcut::env_switch(lmp, "SPHCUT_STAGE_TEAM", "Fix sph/jc-thermal/kk", 0) ? 2 : 1;
+  prepack = pairkk && prepack_allowed();
+  clear_f = force_clear_allowed();
+  // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1
+  // forces, 2 stages in teams of 2 threads on a host backend: the tests of the staged kernels'
+  // team reductions)
+  stage_rows = sphcut::env_switch(lmp, "SPHCUT_STAGE_ROWS", "Fix sph/jc-thermal/kk", -1, 2);
+  host_team = stage_rows == 2 ? 2 : 1;
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix sph/jc-thermal/kk");
-  fuse = sphcut::env_switch(lmp, "SPHCUT_FUSE_STEPS", "Fix sph/jc-thermal/kk", 1) && fuse_allowed();
+  fuse = fuse_allowed();
   defer_step = -1;
   // fix print and fix halt (LAMMPS' host styles) evaluate variables and change no per-atom array,
   // but declare every array modified on the host (Fix's default datamask_modify, ALL_MASK): under
   // /kk each of their steps would then copy all atom arrays back to the device.  What their
   // variables may read stays synchronised to the host before them (datamask_read)
-  if (output_sync)
-    for (auto *f : sphcut::fix_list(modify))
-      if (!f->kokkosable && (utils::strmatch(f->style, "^print$") || utils::strmatch(f->style, "^halt$")))
-        f->datamask_modify = EMPTY_MASK;
+  for (auto *f : sphcut::fix_list(modify))
+    if (!f->kokkosable && (utils::strmatch(f->style, "^print$") || utils::strmatch(f->style, "^halt$")))
+      f->datamask_modify = EMPTY_MASK;
   // the other sphcut styles (those that attach to this fix) read and write the state: under /kk
   // only their /kk variants do that on the device (a CPU variant would read a stale host copy)
   for (auto *f : sphcut::fix_list(modify))
@@ -814,7 +812,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::settle_corre
    limit), an output step or a peratom_freq step (the host copies), the run's last step, nor where
    another fix's end_of_step runs this step (fuse_watch: fix print, halt, ave/time ... every
    nevery steps; an attached style only if its end_of_step touches the particles).  init sets fuse
-   (SPHCUT_FUSE_STEPS, fuse_allowed); the answer is kept for the step */
+   (fuse_allowed); the answer is kept for the step */
 template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::defers_corrector()
 {
   const bigint s = update->ntimestep;
@@ -938,10 +936,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step(
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::sync_outputs_host()
 {
   settle_corrector();
-  if (!output_sync) {
-    k_state.sync_host();
-    return;
-  }
   if (!k_state.need_sync_host()) return;    // the host holds the whole rows
   if (!update->setupflag && outputs_step == update->ntimestep) return;
   const int n = atom->nlocal, nc = NOUT;

@@ -101,15 +101,14 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void sync_outputs_host();
 
   // the first-half kernel on team-staged copies of the state rows (sphcut::stage_policy): on a GPU
-  // from STAGE_MIN local particles (on one H100 the 3D step at 1.06 and 4.24 M particles 3-5 %
-  // faster, the 2D cut at 18k and 70k particles 6-12 % slower: bench/gpu/RESULTS.md, "The first
-  // half on staged rows"); SPHCUT_STAGE_ROWS (init: 0 or 1, -1 when unset) overrides, for the A/B
-  // and the tests.  (The corrector on staged rows was slower, 5.2-5.7 against 3.2 ms a call at
-  // 4.24 M: not kept.)
+  // from STAGE_MIN local particles (faster in 3D at a million particles and more, slower in 2D at
+  // 18k and 70k: bench/gpu/RESULTS.md, "The first half on staged rows"); SPHCUT_STAGE_ROWS (init:
+  // 0, 1, or 2 for staged in teams of 2 threads on a host backend; -1 when unset) overrides, for
+  // the tests.  (The corrector on staged rows was slower: it runs in place.)
   static constexpr int STAGE_MIN = 500000;
   // the choice for n local particles: env the value of SPHCUT_STAGE_ROWS (-1: unset), host whether
   // the instance runs on a host backend
-  static bool stage_choice(int n, bool host, int env) { return env >= 0 ? env == 1 : !host && n >= STAGE_MIN; }
+  static bool stage_choice(int n, bool host, int env) { return env >= 0 ? env >= 1 : !host && n >= STAGE_MIN; }
 
   void grow_arrays(int) override;
   void set_arrays(int) override;
@@ -148,17 +147,17 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
 
  protected:
   PairSPHJCThermalKokkos<DeviceType> *pairkk = nullptr;    // the pair on this device type (init)
-  int prepack = 0;    // its local rows packed in initial_integrate (init: SPHCUT_PAIR_PREPACK, prepack_allowed)
+  int prepack = 0;    // its local rows packed in initial_integrate (init: prepack_allowed)
   bool prepack_allowed() const;
   bool others_keep_out(bool before_only) const;
   // the forces zeroed in initial_integrate's kernel, after the half kick has read them, and in
   // pre_force's after a reneighbouring, instead of LAMMPS' own launch (Verlet's external_force_clear,
-  // set from setup to post_run; init: SPHCUT_FORCE_CLEAR, force_clear_allowed)
+  // set from setup to post_run; init: force_clear_allowed)
   int clear_f = 0;
   int clear_f_active = 0;          // this run's setup set the integrator's flag (post_run restores it)
   int saved_force_clear = 0;       // the flag before
   int stage_rows = -1;    // the first-half kernel on staged rows (stage_choice): SPHCUT_STAGE_ROWS, -1 unset
-  int host_team = 1;      // threads a staged team on a host backend (SPHCUT_STAGE_TEAM=1: 2)
+  int host_team = 1;      // threads a staged team on a host backend (SPHCUT_STAGE_ROWS=2: 2)
   bool staged(int n) const
   {
     return stage_choice(n, ON_HOST, stage_rows) && sphcut::rows_contiguous(k_state.template view<DeviceType>());
@@ -167,7 +166,7 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   bool force_clear_allowed() const;
   template <class K> void integrator_views(K &k);    // (.cpp: FirstHalf, SecondHalf)
   // a step's corrector in the next step's first-half kernel (.cpp, defers_corrector): fuse (init:
-  // SPHCUT_FUSE_STEPS, fuse_allowed), the fixes whose end_of_step steps keep their corrector
+  // fuse_allowed), the fixes whose end_of_step steps keep their corrector
   // (fuse_watch), the step asked last and its answer, the corrector left pending and its dt
   int fuse = 0;
   std::vector<const Fix *> fuse_watch;
@@ -202,9 +201,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   Kokkos::View<double *, typename DeviceType::memory_space> d_second_acc;    // its accumulator on the wide path
   bool wide = false;    // its reduction on the wide path (sphcut::wide_choice, SPHCUT_WIDE_REDUCE; init)
   void upload_tables();
-  // SPHCUT_OUTPUT_SYNC (environment, 1 by default; 0: whole rows in sync_outputs_host, and fix print
-  // / fix halt left as they are in init, for the A/B)
-  int output_sync = 1;
   bigint outputs_step = -1;    // the step whose output columns were copied (-1: none since the setup)
   void sync_host_state() { k_state.sync_host(); }
   void modified_host_state() { k_state.modify_host(); }

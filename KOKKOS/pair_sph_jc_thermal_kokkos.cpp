@@ -23,9 +23,6 @@
 #include "sphcut_kokkos.h"
 #include "sphcut_pair.h"
 
-#include <cstdlib>
-#include <string>
-
 using namespace LAMMPS_NS;
 using sphcut::StateLayout;
 using sphcut::PK_M;
@@ -124,7 +121,7 @@ template <class DeviceType> struct AtomicAdd {
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
     PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
-    fixkk(nullptr), tables_ready(0), lanes_env(0), bounded(1), prefetch(1)
+    fixkk(nullptr), tables_ready(0), prefetch(1)
 {
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
@@ -149,16 +146,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style(
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk)
     error->all(FLERR, "Pair sph/jc-thermal/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
-  const char *e = std::getenv("SPHCUT_PAIR_LANES");
-  if (e && *e) {
-    const std::string v(e);
-    lanes_env = v.find_first_not_of("0123456789") == std::string::npos && v.size() <= 2 ? std::atoi(e) : -1;
-    if (lanes_env < 1 || lanes_env > 32 || (lanes_env & (lanes_env - 1)))
-      error->all(FLERR, "Pair sph/jc-thermal/kk: SPHCUT_PAIR_LANES={} is not 1, 2, 4, 8, 16 or 32", v);
-  }
-  bounded = sphcut::env_switch(lmp, "SPHCUT_PAIR_BOUNDS", "Pair sph/jc-thermal/kk", 1);
-  // (the one-ahead loads by default on a GPU only: on host threads the 3D step took 5 % longer)
-  prefetch = sphcut::env_switch(lmp, "SPHCUT_PAIR_PREFETCH", "Pair sph/jc-thermal/kk", ON_HOST ? 0 : 1);
+  prefetch = sphcut::load_ahead<DeviceType>(lmp, "Pair sph/jc-thermal/kk");
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
     error->all(FLERR, "Pair sph/jc-thermal/kk: the per-atom mass (rmass) has no Kokkos device copy "
@@ -230,12 +218,9 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
       if (dim == 2) neigh_pass_team<2>(inum, any_as, lanes);
       else neigh_pass_team<3>(inum, any_as, lanes);
     } else {
-      if (bounded && prefetch) {
-        if (dim == 2) neigh_pass<2, 0, 0, NEIGH_MINB, 1>(inum, any_as);
-        else neigh_pass<3, 0, 0, NEIGH_MINB, 1>(inum, any_as);
-      } else if (bounded) {
-        if (dim == 2) neigh_pass<2, 0, 0, NEIGH_MINB>(inum, any_as);
-        else neigh_pass<3, 0, 0, NEIGH_MINB>(inum, any_as);
+      if (prefetch) {
+        if (dim == 2) neigh_pass<2, 0, 0, 1>(inum, any_as);
+        else neigh_pass<3, 0, 0, 1>(inum, any_as);
       } else {
         if (dim == 2) neigh_pass<2, 0, 0>(inum, any_as);
         else neigh_pass<3, 0, 0>(inum, any_as);
@@ -336,13 +321,16 @@ template <class DeviceType> bool PairSPHJCThermalKokkos<DeviceType>::rows_fit(in
    particles; each thread sums its particle's pairs in registers and writes
    its force and rates, no atomics.  Half list (HALF = 1): each pair once,
    j's share by atomics (j < nlocal, or any j with newton), the sums of i
-   added atomically at the end; the rates follow in rates_pass.
+   added atomically at the end; the rates follow in rates_pass.  The
+   full-list pass runs with launch bounds (NEIGH_MINB), the half-list ones
+   without; PF: list entries loaded one ahead (the header).
 ------------------------------------------------------------------------- */
 
 template <class DeviceType>
-template <int DIM, int HALF, int NEWTON, int MINB, int PF>
+template <int DIM, int HALF, int NEWTON, int PF>
 void PairSPHJCThermalKokkos<DeviceType>::neigh_pass(int inum, int any_as)
 {
+  constexpr int MINB = HALF ? 0 : NEIGH_MINB;
   const NeighViews nv = neigh_views();
   auto accv = k_acc.template view<DeviceType>();
   const int kind = mdl.kernel(), corr = mdl.renormalised(), ntp = atom->ntypes + 1;
@@ -425,17 +413,15 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
    to 2; one thread per particle above TEAM_FILL / 2 particles.  package
    kokkos neigh/thread off: one thread per particle; on: at least 2 lanes.
    On a host backend the team path has one lane (the CPU's order of the
-   sums).  SPHCUT_PAIR_LANES (environment, 1 = one thread per particle,
-   or 2, 4, 8, 16, 32 lanes) overrides the choice on a GPU, except
-   neigh/thread off: for the benchmark that chose TEAM_FILL
-   (bench/gpu/cutting.sh lanes).  The choice itself: gpu_lanes.
+   sums).  TEAM_FILL and the lanes were measured (bench/gpu/RESULTS.md,
+   "The 2D step").  The choice itself: gpu_lanes.
 ------------------------------------------------------------------------- */
 
 template <class DeviceType> int PairSPHJCThermalKokkos<DeviceType>::team_lanes(int inum) const
 {
   const bool set = lmp->kokkos->neigh_thread_set, on = lmp->kokkos->neigh_thread;
   if (ON_HOST) return set && on ? 1 : 0;
-  return gpu_lanes(inum, domain->dimension, set, on, lanes_env);
+  return gpu_lanes(inum, domain->dimension, set, on);
 }
 
 /* the full-list pass with a team per TEAM_THREADS / lanes particles, the

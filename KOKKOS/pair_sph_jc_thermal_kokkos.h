@@ -87,40 +87,34 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // (active 0 when the rows cannot be packed there: setup, no rows yet, or their width or number
   // would change), then rows_prepacked with the step; compute packs only the ghosts then, unless
   // the lists were rebuilt in between (the atoms reordered) or it reallocated the rows.
-  // SPHCUT_PAIR_PREPACK=0 (environment, the fix reads it): every row here, for the A/B.
   sphcut::RowPacker<DeviceType> packer_for_fix();
   void rows_prepacked(bigint step) { prepacked_step = step; }
   bool rows_fit(int pk_cols) const;
-  template <int DIM, int HALF, int NEWTON, int MINB = 0, int PF = 0> void neigh_pass(int inum, int any_as);
+  template <int DIM, int HALF, int NEWTON, int PF = 0> void neigh_pass(int inum, int any_as);
   template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
   template <int DIM> void hourglass_pass(int inum);
   // the team path (neigh_pass_team): at most TEAM_LANES_2D / _3D lanes per particle, halved
   // while particles x lanes exceed TEAM_FILL (the threads that fill a GPU of about a hundred
   // multiprocessors); threads per team
   enum { TEAM_FILL = 131072, TEAM_LANES_2D = 8, TEAM_LANES_3D = 16, TEAM_THREADS = 128 };
-  // the one-thread-per-particle pass (neigh_pass, the full list where team_lanes gives 0) compiled
-  // with launch bounds: at most 128 threads a block, NEIGH_MINB blocks on a multiprocessor (at most
-  // 168 registers a thread in 3D; no spill, 20 bytes with the one-ahead loads below): measured on
-  // one H200 against the unbounded pass (bench/gpu/RESULTS.md, "Launch bounds"), the 3D slab at
-  // 4.24 M -2 %, the 2D cut at 70k particles about -10 %.  SPHCUT_PAIR_BOUNDS=0 (environment)
-  // runs the unbounded one, as before, for that comparison.
-  // The bounded pass loads each list entry's index and row head one entry ahead (PF: their
-  // latency overlaps the entry before; sphcut::unpack_j_head / unpack_j_rest): measured
-  // on one H100 (bench/gpu/RESULTS.md, "The pair's list entries loaded one ahead") the pass at
-  // 1.06 M particles in 3D -17 %, the step at 4.24 M -5 %.  SPHCUT_PAIR_PREFETCH=0 (environment)
-  // loads each entry when it is taken, as before, for that comparison; on a host backend that is
-  // the default (there the 3D cut's step took 5 % longer with them), =1 forces them (the tests).
-  // (The team pass, one entry ahead per lane, gained nothing at 18k particles in 2D: not kept.)
+  // the one-thread-per-particle pass of the full list (neigh_pass, where team_lanes gives 0) is
+  // compiled with launch bounds: at most 128 threads a block, NEIGH_MINB blocks on a
+  // multiprocessor (at most 168 registers a thread in 3D; no spill, 20 bytes with the one-ahead
+  // loads below; bench/gpu/RESULTS.md, "Launch bounds"); the half-list passes without.
+  // On a GPU it loads each list entry's index and row head one entry ahead (PF: their latency
+  // overlaps the entry before; sphcut::unpack_j_head / unpack_j_rest; bench/gpu/RESULTS.md, "The
+  // pair's list entries loaded one ahead"); on a host backend each entry when it is taken
+  // (sphcut::load_ahead; SPHCUT_LOAD_AHEAD=1 takes the GPU's loop there, for the tests).
+  // (The team pass, one entry ahead per lane, gained nothing: it loads each entry when taken.)
   enum { NEIGH_MINB = 3 };
   // whether this instance runs on a host backend (one lane in the team pass, no one-ahead loads)
   static constexpr bool ON_HOST = sphcut::on_host_backend<DeviceType>();
   int team_lanes(int inum) const;
-  // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread, env the value of
-  // SPHCUT_PAIR_LANES (0: unset); 0 = one thread per particle
-  static int gpu_lanes(int inum, int dim, bool set, bool on, int env)
+  // the choice on a GPU (team_lanes): set / on from package kokkos neigh/thread; 0 = one thread
+  // per particle
+  static int gpu_lanes(int inum, int dim, bool set, bool on)
   {
     if (set && !on) return 0;
-    if (env > 0) return env > 1 ? env : 0;
     int lanes = dim == 2 ? TEAM_LANES_2D : TEAM_LANES_3D;
     while (lanes > 2 && (double) inum * lanes > TEAM_FILL) lanes /= 2;
     if (!set && (double) inum * lanes > TEAM_FILL) return 0;
@@ -144,9 +138,7 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   int nmax_kk;
   FixSPHJCThermalKokkosBase *fixkk;
   int tables_ready;
-  int lanes_env;    // SPHCUT_PAIR_LANES (team_lanes), 0 where unset
-  int bounded;      // SPHCUT_PAIR_BOUNDS (NEIGH_MINB), 1 where unset
-  int prefetch;     // SPHCUT_PAIR_PREFETCH (PF of neigh_pass), where unset 1 on a GPU, 0 on the host
+  int prefetch;     // PF of neigh_pass (init_style: sphcut::load_ahead)
   bigint prepacked_step = -1;    // the step whose local rows the fix packed (rows_prepacked)
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major

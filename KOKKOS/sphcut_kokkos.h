@@ -179,8 +179,8 @@ template <class DeviceType> constexpr bool on_host_backend()
 /* A reduction over many particles, one thread each.  Kokkos 3.4 launches a range reduction on
    CUDA in at most block_size blocks of block_size threads (Kokkos_Cuda_Parallel.hpp: "grid.x <=
    block.y", 256 x 256), each thread looping over n / 65,536 of the indices, and its tree's shared
-   memory under the L1 preference leaves one block of 256 a multiprocessor (Nsight Compute: the
-   corrector at 12.5 % occupancy at 1.06 M particles, bench/gpu/RESULTS.md).  wide_reduce runs
+   memory under the L1 preference leaves one block of 256 a multiprocessor (Nsight Compute,
+   bench/gpu/RESULTS.md: low occupancy).  wide_reduce runs
    the same functor as a parallel_for of one thread per index instead: each warp joins its lanes'
    values by shuffles and its first lane joins them into the accumulator acc on the device by
    atomics (sums: add; minima: the integer minimum of their bits, which orders non-negative
@@ -263,11 +263,9 @@ template <class DeviceType, int N, class Functor> struct WideReduce {
   }
 };
 
-// whether a reduction takes wide_reduce: on a GPU at every size (one H100, against Kokkos' own: the
-// 3D step at 4.24 M particles -9 %, the 2D cut at 70,570 particles -4 %, at 18,272 -3 %, the
-// corrector and the contact kernel below 65,536 particles included; bench/gpu/RESULTS.md "The
+// whether a reduction takes wide_reduce: on a GPU at every size (bench/gpu/RESULTS.md "The
 // reductions over the particles"), never on a host backend; SPHCUT_WIDE_REDUCE (0 or 1,
-// env_switch's -1 when unset) overrides, 1 on host backends too
+// env_switch's -1 when unset) overrides, 1 on host backends too (the tests of the wide path)
 inline bool wide_choice(bool host, int env)
 {
   return env >= 0 ? env == 1 : !host;
@@ -344,8 +342,8 @@ KOKKOS_INLINE_FUNCTION double *stage_in(const Member &t, const View &st, int fir
   return sh;
 }
 
-// and out, after every thread of the team has finished its rows.  (Only the values that changed:
-// +29 % in the first-half kernel at 4.24 M particles on an H100, the extra read of the rows)
+// and out, after every thread of the team has finished its rows (all of them: storing only the
+// values that changed costs an extra read of the rows)
 template <class Member, class View>
 KOKKOS_INLINE_FUNCTION void stage_out(const Member &t, const View &st, int first, int cnt, const double *sh)
 {
@@ -369,15 +367,18 @@ struct IntegrateForceClear : LAMMPS_NS::Integrate {
   static int &flag(LAMMPS_NS::Integrate *in) { return in->*(&IntegrateForceClear::external_force_clear); }
 };
 
-// a 0/1 switch of the environment for the benchmarks' A/B runs (bench/gpu/cutting.sh envab): def
-// when unset or empty, an error naming the variable and its value for anything but 0 or 1
-inline int env_switch(LAMMPS_NS::LAMMPS *lmp, const char *name, const char *who, int def)
+// a switch of the environment, 0 .. hi (1 or 2): def when unset or empty, an error naming the
+// variable and its value for anything else.  The switches (at most three) and what they do are
+// listed in doc/performance.md, "Environment switches" (unittest/test_env_switches.sh checks that
+// every name read here is there): each lets a CPU build's tests run a path a GPU takes by default
+inline int env_switch(LAMMPS_NS::LAMMPS *lmp, const char *name, const char *who, int def, int hi = 1)
 {
   const char *e = std::getenv(name);
   if (!e || !*e) return def;
   const std::string v(e);
-  if (v != "0" && v != "1") lmp->error->all(FLERR, "{}: {}={} is not 0 or 1", who, name, v);
-  return v == "1";
+  if (v.size() != 1 || v[0] < '0' || v[0] > '0' + hi)
+    lmp->error->all(FLERR, "{}: {}={} is not {}", who, name, v, hi == 1 ? "0 or 1" : "0, 1 or 2");
+  return v[0] - '0';
 }
 
 // a style's choice of the wide reductions (wide_choice) on its device type, SPHCUT_WIDE_REDUCE read
@@ -385,6 +386,16 @@ inline int env_switch(LAMMPS_NS::LAMMPS *lmp, const char *name, const char *who,
 template <class DeviceType> bool wide_choice(LAMMPS_NS::LAMMPS *lmp, const char *who)
 {
   return wide_choice(on_host_backend<DeviceType>(), env_switch(lmp, "SPHCUT_WIDE_REDUCE", who, -1));
+}
+
+// whether a style's neighbour loops load ahead on its device type (the pair's list entries one
+// entry ahead, the heat passes' neighbour rows before the support test; the same values in the
+// same order either way): on a GPU, not on a host backend (there they cost time);
+// SPHCUT_LOAD_AHEAD (0 or 1) overrides, 1 on host backends too (the tests of those loops)
+template <class DeviceType> bool load_ahead(LAMMPS_NS::LAMMPS *lmp, const char *who)
+{
+  const int env = env_switch(lmp, "SPHCUT_LOAD_AHEAD", who, -1);
+  return env >= 0 ? env == 1 : !on_host_backend<DeviceType>();
 }
 
 // forward communication of the per-atom columns col0 .. col0 + ncol - 1 of a DualView, on the

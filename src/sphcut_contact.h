@@ -620,8 +620,8 @@ SPHCUT_INLINE bool tri_bin_range(const TriBinView &g, const double *x, double ra
    (tool frame; segments: the distance in the x-y plane), bin by bin: visit(e, d2, q, region),
    d2 = |x - q|^2.  The embedded sphere of each element is the cheap prefilter (seed 000).  A
    query of radius <= g.halo reads the one bin holding x, whose list holds every element within
-   halo of the bin (each element once, in the order of their ids; on an H100 the 2D contact
-   kernel took as long as with the bins walked: bench/gpu/RESULTS.md); a larger one the bins the
+   halo of the bin (each element once, in the order of their ids; the 2D contact kernel
+   on a GPU took as long as with the bins walked: bench/gpu/RESULTS.md); a larger one the bins the
    radius covers, where an element listed in several bins is visited once per bin. */
 template <class Visit>
 SPHCUT_INLINE void tri_bin_visit(const TriBinView &g, const double *x, double radius, Visit &&visit)

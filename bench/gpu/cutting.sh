@@ -8,9 +8,8 @@
 #            same with the pair's hourglass 0.1; CHECK_VARS more -var settings (e.g. "-var precision
 #            mixed"), CHECK_TOL the tolerance (default 1e-8)
 #   sums     the corrector joined to the next first half on the GPU: check's cases under /kk with it
-#            on staged rows (SPHCUT_STAGE_ROWS=1), two kernels staged and in place
-#            (SPHCUT_FUSE_STEPS=0) and the default, against the CPU styles: per-atom state and the
-#            energy sums formed on the device (plastic work, Dirichlet heat, ...)
+#            on staged rows (SPHCUT_STAGE_ROWS=1) and the default (in place), against the CPU styles:
+#            per-atom state and the energy sums formed on the device (plastic work, Dirichlet heat, ...)
 #   concurrent  several 2D cuts at once on the one GPU (a parameter study): CONC_N (default "1 4 8
 #            16") copies of the cut at CONC_NY (41) across, CONC_STEPS (20000) steps in contact each,
 #            started together under MPS (where nvidia-cuda-mps-control starts; CONC_MPS=0: without),
@@ -53,21 +52,19 @@
 #   stepcost the 2D cut in contact, PROF_STEPS steps at STEPCOST_NY (11, 21, 41 and 81) across: us/step
 #            against the particle count (the fixed cost per step), LAMMPS' timer table and sphcut's per
 #            style; STEPCOST_ARGS more lmp arguments (e.g. "-var dtevery 1"), STEPCOST_TAG a log suffix
-#   lanes    the 2D cut in contact at LANES_NY (21 41 81) across with 1, 2, 4, 8 lanes per particle in
-#            the pair's neighbour pass and with the default choice, in turn (LANES_SET, LANES_REPS): us/step
 #   ab       speed of this tree (A) against a baseline (B: a git archive of another commit, build_b of common.sh),
 #            in turn AB_REPS times (default 2): the 2D cut in contact at AB_NY (41) across, PROF_STEPS
 #            steps (us/step), and the 3D cut (bench3d's periodic slab) at AB_NZ (58 232) layers, 200
 #            steps (particle-steps/s), AB_NY= or AB_NZ= (empty) leaving that part out; AB_KP=NZ:
 #            then each variant's slab at NZ layers under kp_timer (kernel times)
 #   envab    one binary under ENVAB_SETS environment settings or -var settings of the input (;-separated,
-#            e.g. SPHCUT_PAIR_BOUNDS=0 or -var balance shift), in
+#            e.g. SPHCUT_LOAD_AHEAD=0, the switches of doc/performance.md "Environment switches", or
+#            -var balance shift), in
 #            turn: the 2D cut at ENVAB_NY across (us/step) and the 3D slab at ENVAB_NZ layers (ms/step)
 #   outsteps what an output step costs: the 2D cut in contact at OUT_NY (41) across, PROF_STEPS (3000)
 #            steps, a line of forces.dat every 10 steps (the example; its print line without Trake;
-#            without Tmax and Trake; no fix print) and every 100, in turn OUT_REPS (2) times; then
-#            SPHCUT_OUTPUT_SYNC 0 / 1 at every 10 steps (whole state rows and fix print's ALL_MASK,
-#            or the output columns); with OUT_NZ layers (e.g. 58) the 3D slab the same way
+#            without Tmax and Trake; no fix print) and every 100, in turn OUT_REPS (2) times; with
+#            OUT_NZ layers (e.g. 58) the 3D slab the same way
 #   outab    what a line of forces.dat costs, this tree (A) against a baseline (B, as for ab),
 #            each with its own example inputs, in turn OUT_REPS (2) times: the 3D slab (41 across,
 #            OUT_NZ (58) layers, 200 steps) and the 2D cut at OUT_NY (41) across (2000 steps in
@@ -149,15 +146,14 @@ EOP
 
 # the joined corrector's sums on the GPU: check's 2D and 3D cases on the CPU styles and under /kk
 # with the corrector in the next step's first-half kernel on staged rows (team sums, one join per
-# team: what a GPU runs from 500,000 particles), with two kernels staged and in place, and the
-# default (in place, joined): each per-atom state against the CPU's (compare.py, CHECK_TOL), and
+# team: what a GPU runs from 500,000 particles) and the default (in place, joined): each per-atom state against the CPU's (compare.py, CHECK_TOL), and
 # the energy sums the corrector forms on the device (internal, kinetic, plastic work; the heat
 # fix's convection, Dirichlet and thermal energy) against the CPU's, relative
 sums() {
   cd $W
   local v2=$CHECK2D v3=$CHECK3D
   local tol=${CHECK_TOL:-1e-8} d ex v k set sets
-  sets=("SPHCUT_STAGE_ROWS=1" "SPHCUT_STAGE_ROWS=1 SPHCUT_FUSE_STEPS=0" "SPHCUT_STAGE_ROWS=0 SPHCUT_FUSE_STEPS=0" "ENVAB_NONE=1")
+  sets=("SPHCUT_STAGE_ROWS=1" "ENVAB_NONE=1")
   local SNAP_PRINT='print "SUMS $(f_sph[2]:%.17g) $(f_sph[3]:%.17g) $(f_sph[4]:%.17g) $(f_heat[1]:%.17g) $(f_heat[3]:%.17g) $(f_heat[5]:%.17g)"'
   export SNAP_PRINT
   for d in 2 3; do
@@ -721,30 +717,6 @@ stepcost() {
   cd "$ROOT"
 }
 
-# the pair's neighbour pass with 1 (one thread per particle), 2, 4 and 8 lanes per particle
-# (SPHCUT_PAIR_LANES) and with the default choice (PairSPHJCThermalKokkos::team_lanes), in
-# contact, PROF_STEPS steps at LANES_NY (21, 41 and 81) across: us/step (what chose TEAM_FILL).
-# LANES_SET: the settings (default "1 2 4 8 auto"), run in turn LANES_REPS times (default 2);
-# each setting first runs 30 steps untimed (the driver compiles a kernel's PTX at its first launch)
-lanes() {
-  cd $W
-  local steps=${PROF_STEPS:-2000} ny l r
-  for ny in ${LANES_NY:-21 41 81}; do
-    for l in ${LANES_SET:-1 2 4 8 auto}; do
-      [ $l = auto ] && l=""
-      SPHCUT_PAIR_LANES=$l timeout 120 "$BIN" $GPUK -in "$EX2" -var xstart 1 -var ny $ny -var steps 30 \
-        -var dumpevery 0 -log none > /dev/null 2>&1
-    done
-    for r in $(seq ${LANES_REPS:-2}); do
-      for l in ${LANES_SET:-1 2 4 8 auto}; do
-        if [ $l = auto ]; then prof_run ln$ny${l}r$r "$EX2" -var ny $ny -var steps $steps $NEV
-        else SPHCUT_PAIR_LANES=$l prof_run ln$ny${l}r$r "$EX2" -var ny $ny -var steps $steps $NEV; fi
-      done
-    done
-  done
-  cd "$ROOT"
-}
-
 # the speed of this tree against the baseline build (build_b), A and B in turn; each run is first
 # warmed by 30 steps (the driver compiles a kernel's PTX at its first launch)
 ab() {
@@ -786,7 +758,8 @@ ab() {
 }
 
 # the same binary under different environment settings, in turn ENVAB_REPS (2) times: each ';'-separated
-# set of ENVAB_SETS (default "SPHCUT_PAIR_BOUNDS=0;SPHCUT_PAIR_BOUNDS=1") on the 2D cut in contact at ENVAB_NY
+# set of ENVAB_SETS (default "SPHCUT_LOAD_AHEAD=0;ENVAB_NONE=1": the neighbour loops without their
+# loads ahead against the default) on the 2D cut in contact at ENVAB_NY
 # (41 81) across, PROF_STEPS steps (us/step), and on the 3D slab at ENVAB_NZ (232) layers (ms/step);
 # ENVAB_NY= or ENVAB_NZ= (empty) leaves that part out
 layout() {
@@ -799,7 +772,7 @@ layout() {
 envab() {
   cd $W
   local steps=${PROF_STEPS:-2000} sets r k set ny nz
-  IFS=';' read -ra sets <<< "${ENVAB_SETS:-SPHCUT_PAIR_BOUNDS=0;SPHCUT_PAIR_BOUNDS=1}"
+  IFS=';' read -ra sets <<< "${ENVAB_SETS:-SPHCUT_LOAD_AHEAD=0;ENVAB_NONE=1}"
   for r in $(seq ${ENVAB_REPS:-2}); do
     for k in "${!sets[@]}"; do
       set=${sets[$k]}
@@ -854,7 +827,7 @@ outab() {
 
 outsteps() {
   cd $W
-  local steps=${PROF_STEPS:-3000} ny=${OUT_NY:-41} r v s
+  local steps=${PROF_STEPS:-3000} ny=${OUT_NY:-41} r v
   for v in as notrake nottmax noprint; do
     print_variant "$EX2" $W/in2.$v $v
     [ -z "${OUT_NZ:-}" ] || print_variant "$EX3" $W/in3.$v $v
@@ -876,7 +849,6 @@ outsteps() {
   for r in $(seq ${OUT_REPS:-2}); do
     for v in as notrake nottmax noprint; do one os${v}p10r$r $W/in2.$v 10; done
     one osasp100r$r $W/in2.as 100
-    for s in 0 1; do SPHCUT_OUTPUT_SYNC=$s one ossync${s}p10r$r $W/in2.as 10; done
     if [ -n "${OUT_NZ:-}" ]; then
       for v in as noprint; do one3 os3${v}p10r$r $W/in3.$v 10; done
       one3 os3asp100r$r $W/in3.as 100
