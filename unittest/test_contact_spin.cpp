@@ -444,3 +444,28 @@ TEST(Spin, BadInput)
   EXPECT_TRUE(l.error_contains(fix + "spin 0 1 1 0 0 0 100", "spin axis 0 1 1: a 2D tool turns about z only"));
   l.cmds({fix + "spin 0 0 -1 0 0 0 100", "run 0"});    // about -z: accepted
 }
+
+/* ----------------------------------------------------------------------
+   a restart file of the format before spin (version 3: no angle, written by the main branch before spin with
+   unittest/data/contact-v3.in) still reads: the displacement and the budgets come back, the
+   angle starts at 0, and a spinning tool continues from it
+------------------------------------------------------------------------- */
+
+TEST(Spin, ReadsVersion3RestartFile)
+{
+  if (!serial()) GTEST_SKIP() << "one rank";
+  write_plate();
+  Lammps l;
+  l.cmds({std::string("read_restart ") + SPHCUT_SOURCE_DIR + "/unittest/data/contact-v3.restart", "thermo 0"});
+  l.cmds(block_fixes(num(W)));
+  l.cmd("run 0");
+  // the values the writer printed (%.17g)
+  EXPECT_EQ(l.equal("f_tool[8]"), 2.0000000000000005e-05);
+  EXPECT_EQ(l.equal("f_tool[6]"), 2.6321303730026587e-07);
+  EXPECT_EQ(l.equal("f_tool[13]"), 2.6359957158313288e-07);
+  EXPECT_EQ(l.equal("f_tool[15]"), 2.8241688535621895e-07);
+  EXPECT_GT(l.equal("f_tool[53]"), 0.0);    // turning from the start: the plate drags the block
+  l.cmd("run 10");
+  EXPECT_EQ(l.lmp->update->ntimestep, 30);
+  EXPECT_GT(l.equal("f_tool[5]"), 0.0);
+}
