@@ -1,5 +1,8 @@
 // fix contact/tri-penalty with a rotating tool (keyword spin, issue 55): a flat plate (top face
 // z = 0) spinning about z, particles pressed on it.
+//   Per contact (sphcut::contact_step, the step of the CPU and /kk fixes, with a recording sink):
+//   the plate turned and carried, the sliding speed is |v_t + omega z x r| at each contact point,
+//   the friction along it, the facet's force in the tool frame, the torque (r x f).z.
 //   Analytic: particles at rest on the plate, each at distance r from the axis, slide at omega r
 //   against the tool's surface; with Coulomb friction (friction coulomb, vreg 0) each gets the
 //   friction mu F_N along the surface velocity omega z x r, the friction power is
@@ -15,6 +18,7 @@
 //   Bad input: a zero axis, a NaN rate variable (named with the step), a non-z axis in 2D.
 #include "sphcut_test.h"
 
+#include "sphcut_contact_step.h"
 #include "sphcut_stl.h"
 #include "update.h"
 
@@ -144,6 +148,108 @@ void expect_sums(Lammps &l, const Sums &s, const char *what)
 }
 
 }    // namespace
+
+/* ----------------------------------------------------------------------
+   one contact, through sphcut::contact_step (the CPU and /kk fixes' step) with a sink that keeps
+   what the step hands out: the plate turned by 0.7 rad about z through the axis point, carried
+   by a displacement; a particle at rest above a point X of the top face (tool frame).  Its
+   sliding speed (the facet sums' FS_VS / FS_N) is omega r, r the distance of the contact point
+   from the axis; the friction is mu F_N along z x r; the facet's force sums are -R^T f (tool
+   frame); the torque sum is mu F_N r
+------------------------------------------------------------------------- */
+
+namespace {
+
+struct StepSink {
+  double xs[3], vs[3] = {0.0, 0.0, 0.0}, fs[3] = {0.0, 0.0, 0.0};
+  std::vector<double> st = std::vector<double>(sphcut::StateLayout::NCOL, 0.0), out = std::vector<double>(6, 0.0);
+  double sums[sphcut::NCS] = {};
+  double fc[sphcut::NFS] = {};
+  int nfacet = 0;
+  double v(int k) const { return vs[k]; }
+  double x(int k) const { return xs[k]; }
+  double f(int k) const { return fs[k]; }
+  double h() const { return H; }
+  double spacing() const { return DP; }
+  double E() const { return 1e6; }
+  double mass() const { return RHO * DP * DP * DP; }
+  double mu(double) const { return MU; }
+  double *state() { return st.data(); }
+  double *output() { return out.data(); }
+  void add(int c, double val) { sums[c] += val; }
+  void add_force(int k, double val) { fs[k] += val; }
+  void dt_crit(double) {}
+  void record(int, const double *, double) {}
+  void facet(int, const double *c)
+  {
+    nfacet++;
+    for (int j = 0; j < sphcut::NFS; j++) fc[j] += c[j];
+  }
+  void heat_particle(double, double, double) {}
+  bool heat_tool(double) { return false; }
+};
+
+}    // namespace
+
+TEST(Spin, ContactStepSlidingSpeedPerContact)
+{
+  const double lo[3] = {-3e-3, -3e-3, -5e-3}, hi[3] = {20e-3, 3e-3, 0.0};
+  const std::vector<double> elem = sphcut_test::box_triangles(lo, hi);
+  sphcut::TriBins bins;
+  sphcut::tri_bin_build(elem, 3, sphcut::support_radius(H), bins);
+  const std::vector<int> feature(elem.size() / 9, 3);
+  const std::vector<double> inv_area(elem.size() / 9, 1.0);
+  sphcut::ContactStep cs;
+  cs.tool = bins.view();
+  cs.feature = feature.data();
+  cs.base.dim = 3;
+  cs.base.sfac = SFAC;
+  cs.base.onset = 0.2;
+  cs.base.dfac = 0.1;
+  cs.base.vtool[0] = 0.3;    // the tool also translates: v_t + omega z x r
+  cs.dt = 1e-6;
+  cs.fields = 1;
+  cs.inv_area = inv_area.data();
+  const double disp[3] = {1e-3, -2e-3, 0.0}, p0[3] = {2e-3, 0.5e-3, 0.0}, th = 0.7;
+  for (int k = 0; k < 3; k++) {
+    cs.disp[k] = disp[k];
+    cs.rot.p0[k] = p0[k];
+  }
+  cs.rot.on = 1;
+  cs.rot.omega = W;
+  sphcut::rotation_matrix(cs.rot.axis, th, cs.rot.R);
+  const double c = cos(th), s = sin(th);
+  for (double X : {0.0, 4e-3, 11e-3, 18e-3}) {
+    for (double Y : {-2e-3, 1.5e-3}) {
+      StepSink sk;
+      // the particle above the tool-frame point (X, Y, 0.9 RC)
+      const double a[3] = {X - p0[0], Y - p0[1]};
+      const double arm[3] = {c * a[0] - s * a[1], s * a[0] + c * a[1], 0.0};    // R (X_c - p0)
+      sk.xs[0] = p0[0] + disp[0] + arm[0];
+      sk.xs[1] = p0[1] + disp[1] + arm[1];
+      sk.xs[2] = 0.9 * RC;
+      sphcut::contact_step(cs, true, sk);
+      const double r = sqrt(arm[0] * arm[0] + arm[1] * arm[1]);
+      // the surface velocity at the contact point, its sliding speed against the particle at rest
+      const double vsurf[2] = {0.3 - W * arm[1], W * arm[0]};
+      const double vsl = sqrt(vsurf[0] * vsurf[0] + vsurf[1] * vsurf[1]);
+      const double fn = sk.out[3];
+      ASSERT_GT(fn, 0.0);
+      ASSERT_EQ(sk.nfacet, 1);
+      EXPECT_NEAR(sk.fc[sphcut::FS_VS] / sk.fc[sphcut::FS_N], vsl, 1e-12 * vsl) << X << " " << Y;
+      for (int k = 0; k < 2; k++) EXPECT_NEAR(sk.fs[k], MU * fn * vsurf[k] / vsl, 1e-12 * fn) << X << " " << Y;
+      EXPECT_NEAR(sk.fs[2], fn, 1e-12 * fn);
+      // the facet's force (times dt) in the tool frame: -R^T f
+      const double ft[2] = {c * sk.fs[0] + s * sk.fs[1], -s * sk.fs[0] + c * sk.fs[1]};
+      for (int k = 0; k < 2; k++) EXPECT_NEAR(sk.fc[sphcut::FS_FX + k], -ft[k] * cs.dt, 1e-12 * fn * cs.dt);
+      // torque about the axis: (arm x f) . z; friction power |F_T| times the sliding speed
+      EXPECT_NEAR(sk.sums[sphcut::CS_TORQUE], arm[0] * sk.fs[1] - arm[1] * sk.fs[0], 1e-12 * fn * r);
+      EXPECT_NEAR(sk.sums[sphcut::CS_FRIC], MU * fn * vsl, 1e-12 * fn * vsl);
+      // the tool's work rate: F . v_surface
+      EXPECT_NEAR(sk.sums[sphcut::CS_WORK], sk.fs[0] * vsurf[0] + sk.fs[1] * vsurf[1], 1e-12 * fn * vsl);
+    }
+  }
+}
 
 /* ----------------------------------------------------------------------
    the analytic sliding: at the start (row A on the plate, row B beside it), and after the
