@@ -70,7 +70,7 @@ namespace {
 // read: record_sums())
 enum {
   R_FX = sphcut::CS_FX, R_FY, R_FZ, R_TWORK = sphcut::CS_WORK, R_DISS = sphcut::CS_DISS, R_FRIC = sphcut::CS_FRIC,
-  R_QWORK = sphcut::CS_QWORK, R_QLOST, R_QLUMP, R_QTOOL = sphcut::CS_QTOOL, R_QSRC, R_DTCRIT, NRED
+  R_QWORK = sphcut::CS_QWORK, R_QLOST, R_QLUMP, R_QTOOL = sphcut::CS_QTOOL, R_QSRC, R_TORQUE, R_DTCRIT, NRED
 };
 static_assert((int) R_FZ == (int) sphcut::CS_FZ && (int) R_QLUMP == (int) sphcut::CS_QLUMP,
               "the reduction's sums follow sphcut::ContactSum");
@@ -176,7 +176,8 @@ template <class DeviceType> struct ContactKernel {
     // the reduction holds both halves of the step's work and dissipation in one sum each
     KOKKOS_INLINE_FUNCTION void add(int c, double val) const
     {
-      r[c == sphcut::CS_WORK_OLD ? R_TWORK : (c == sphcut::CS_DISS_OLD ? R_DISS : c)] += val;
+      r[c == sphcut::CS_WORK_OLD ? R_TWORK
+                                 : (c == sphcut::CS_DISS_OLD ? R_DISS : (c == sphcut::CS_TORQUE ? R_TORQUE : c))] += val;
     }
     KOKKOS_INLINE_FUNCTION void add_force(int d, double val) const { k.f(i, d) += val; }
     KOKKOS_INLINE_FUNCTION void dt_crit(double d) const
@@ -314,13 +315,20 @@ template <class DeviceType> struct NearKernel {
   ContactMaskBits bits;
   double lo[3], hi[3];    // the grid's box widened by the slack, tool frame
   double disp[3];
+  sphcut::ToolRotation rot;    // a rotating tool: the particles turned into the tool frame
   int ndim;               // 2: segments (x, y), 3: triangles
   int none;               // 1: the tool has no element (nobody is near)
 
   KOKKOS_INLINE_FUNCTION void operator()(const int i, int &upd, const bool final) const
   {
     bool in = !none && bits.candidate(mask(i));
-    for (int k = 0; k < ndim && in; k++) {
+    if (in && rot.on) {
+      const double xs[3] = {x(i, 0), x(i, 1), x(i, 2)};
+      double xt[3];
+      sphcut::tool_frame_point(disp, rot, xs, ndim, xt);
+      for (int k = 0; k < ndim && in; k++) in = xt[k] >= lo[k] && xt[k] <= hi[k];
+    }
+    for (int k = 0; k < ndim && in && !rot.on; k++) {
       const double xt = x(i, k) - disp[k];
       in = xt >= lo[k] && xt <= hi[k];
     }
@@ -584,6 +592,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::fetch()
   // work_rate and diss_rate (this step's rates alone) stay on the device, in the sums of the
   // trapezoid with the previous step's: only tool_work and contact_diss are used
   fric_power = r[R_FRIC];
+  torque = r[R_TORQUE];
   ncontact = (int) r[C_NREC + 1 - rec_cur];    // the counter of the last evaluation
   dt_crit = r[R_DTCRIT];
   q_work += a[A_QWORK];
@@ -651,12 +660,16 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::near_bu
   const double near_slack = 2.0 * neighbor->skin;
   double moved2 = 0.0;
   for (int k = 0; k < 3; k++) moved2 += (step.disp[k] - near_disp[k]) * (step.disp[k] - near_disp[k]);
+  // a rotating tool: a point of the grid's box moves by at most the turned angle times its
+  // distance from the axis point (near_arm, the farthest corner of the widened box)
+  const double moved = sqrt(moved2) + (step.rot.on ? fabs(theta - near_theta) * near_arm : 0.0);
   if (nnear >= 0 && !update->setupflag && near_calls == neighbor->ncalls && near_nlocal == nlocal &&
-      moved2 <= 0.25 * near_slack * near_slack)
+      moved <= 0.5 * near_slack)
     return;
   near_calls = neighbor->ncalls;
   near_nlocal = nlocal;
   for (int k = 0; k < 3; k++) near_disp[k] = step.disp[k];
+  near_theta = theta;
   if ((int) d_near.extent(0) < atom->nmax) d_near = Kokkos::View<int *, mem>("contact:near", atom->nmax);
   NearKernel<DeviceType> c;
   c.x = atomKK->k_x.view<DeviceType>();
@@ -673,6 +686,16 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::near_bu
     c.hi[k] = g.lo[k] + g.n[k] * g.size + near_slack;
   }
   c.none = g.nelem <= 0 || g.n[0] <= 0;
+  c.rot = step.rot;
+  near_arm = 0.0;
+  for (int corner = 0; corner < 8; corner++) {
+    double r2 = 0.0;
+    for (int k = 0; k < c.ndim; k++) {
+      const double e = ((corner >> k) & 1 ? c.hi[k] : c.lo[k]) - step.rot.p0[k];
+      r2 += e * e;
+    }
+    near_arm = std::max(near_arm, sqrt(r2));
+  }
   int total = 0;
   Kokkos::parallel_scan("sphcut:contact:near_build", sphcut::range<DeviceType>(0, nlocal), c, total);
   nnear = total;

@@ -92,6 +92,7 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
   Kokkos::View<int *, mem> d_near;
   int nnear = -1;                                // particles in d_near (-1: build it)
   double near_disp[3] = {0.0, 0.0, 0.0};         // the tool's displacement at the build
+  double near_theta = 0.0, near_arm = 0.0;       // its angle (spin) then, the farthest box corner from the axis
   bigint near_calls = -1;                        // neighbor->ncalls at the build
   int near_nlocal = -1;
   void near_build(const sphcut::ContactStep &step);

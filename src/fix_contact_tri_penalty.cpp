@@ -162,6 +162,7 @@ int FixContactTriPenalty::parse_tool_keyword(const std::string &kw, int iarg, in
     }
     return 4;
   }
+  if (kw == "spin") return parse_spin(iarg, narg, arg);
   if (kw == "write") {
     need_values(iarg, narg, 2, kw);
     write_every = sphcut::parse_int(lmp, "Fix contact/tri-penalty", "write interval", arg[iarg + 1]);
@@ -171,6 +172,57 @@ int FixContactTriPenalty::parse_tool_keyword(const std::string &kw, int iarg, in
     return 3;
   }
   return 0;
+}
+
+// spin AX AY AZ PX PY PZ RATE: the tool turns about the axis (AX AY AZ) through the point (PX PY PZ) of
+// the tool frame (it moves with the tool's translation) at RATE rad/time (a number or v_name)
+int FixContactTriPenalty::parse_spin(int iarg, int narg, char **arg)
+{
+  need_values(iarg, narg, 7, "spin");
+  double a[3];
+  for (int k = 0; k < 3; k++) {
+    a[k] = number(arg[iarg + 1 + k]);
+    spin_point[k] = number(arg[iarg + 4 + k]);
+  }
+  const double len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  if (!(len > 0.0) || !std::isfinite(len))
+    error->all(FLERR, "Fix contact/tri-penalty: spin axis {} {} {} must be a nonzero finite vector", arg[iarg + 1],
+               arg[iarg + 2], arg[iarg + 3]);
+  for (int k = 0; k < 3; k++) {
+    spin_axis[k] = a[k] / len;
+    if (!std::isfinite(spin_point[k]))
+      error->all(FLERR, "Fix contact/tri-penalty: spin point {} is not a finite number", arg[iarg + 4 + k]);
+  }
+  if (domain->dimension == 2 && (a[0] != 0.0 || a[1] != 0.0))
+    error->all(FLERR, "Fix contact/tri-penalty: spin axis {} {} {}: a 2D tool turns about z only (spin 0 0 1 ...)",
+               arg[iarg + 1], arg[iarg + 2], arg[iarg + 3]);
+  const std::string r = arg[iarg + 7];
+  if (utils::strmatch(r, "^v_")) {
+    spin_var = r.substr(2);
+  } else {
+    spin_var.clear();
+    spin_const = number(arg[iarg + 7]);
+    if (!std::isfinite(spin_const))
+      error->all(FLERR, "Fix contact/tri-penalty: spin rate {} is not a finite number", r);
+  }
+  spin = 1;
+  return 8;
+}
+
+// the pose of the tool's rotation at the current angle theta (off without spin)
+sphcut::ToolRotation FixContactTriPenalty::rotation() const
+{
+  sphcut::ToolRotation r;
+  if (!spin) return r;
+  r.on = 1;
+  for (int k = 0; k < 3; k++) {
+    r.axis[k] = spin_axis[k];
+    r.p0[k] = spin_point[k];
+  }
+  if (domain->dimension == 2) r.p0[2] = 0.0;
+  r.omega = omega_step_set ? omega_step : omega;
+  sphcut::rotation_matrix(r.axis, theta, r.R);
+  return r;
 }
 
 // E, pfac, dfac, sfac, vreg, eta, dtfac, onset, stick, friction, tfac, mu
@@ -344,6 +396,9 @@ void FixContactTriPenalty::check_keywords(const ToolSpec &spec)
   if (!split_given && toolbit) split_auto = 1;
   if (split_auto && !toolbit)
     error->all(FLERR, "Fix contact/tri-penalty: split auto needs tool_particles (their conductivity)");
+  if (spin && toolbit)
+    error->all(FLERR, "Fix contact/tri-penalty: spin with tool_particles is not supported (the rigid tool "
+               "particles translate only); give the tool's heat to tool_cp or leave it unassigned");
 
   nvert = domain->dimension == 2 ? 2 : 3;
   if (write_every && nvert == 2 && utils::strmatch(write_file, "\\.stl$"))
@@ -421,7 +476,7 @@ void FixContactTriPenalty::build_insert(const ToolSpec &spec)
 void FixContactTriPenalty::declare_outputs()
 {
   vector_flag = 1;
-  size_vector = 15 + NFEAT * NDECOMP;
+  size_vector = NVEC;
   global_freq = 1;
   extvector = 0;
   peratom_flag = 1;
@@ -480,6 +535,12 @@ void FixContactTriPenalty::init()
       if (!input->variable->equalstyle(iv))
         error->all(FLERR, "Fix contact/tri-penalty: velocity variable {} is not equal-style", vvar[k]);
     }
+  if (!spin_var.empty()) {
+    const int iv = input->variable->find(spin_var.c_str());
+    if (iv < 0) error->all(FLERR, "Fix contact/tri-penalty: spin rate variable {} does not exist", spin_var);
+    if (!input->variable->equalstyle(iv))
+      error->all(FLERR, "Fix contact/tri-penalty: spin rate variable {} is not equal-style", spin_var);
+  }
   if (mustyle == MU_VARIABLE) {
     mu_ivar = input->variable->find(mu_var.c_str());
     mu_itvar = input->variable->find(mu_tvar.c_str());
@@ -535,16 +596,26 @@ double FixContactTriPenalty::initial_spring_limit() const
   // the workpiece the spring's limit: the time and the first contact shifted)
   double lim = 1.0e300;
   const sphcut::TriBinView view = bins.view();
+  const sphcut::ToolRotation rot = rotation();
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit) || (atom->mask[i] & toolbit) || fix->role_of(atom->mask[i]) == FixSPHJCThermal::TOOL) continue;
     const int it = atom->type[i];
     const double h = model->smoothing_length(it);
     const double *xi = atom->x[i];
-    const double xt[3] = {xi[0] - disp[0], xi[1] - disp[1], nvert == 2 ? 0.0 : xi[2] - disp[2]};
+    double xt[3];
+    sphcut::tool_frame_point(disp, rot, xi, nvert == 2 ? 2 : 3, xt);
     double d, n[3], q[3];
     int region;
     if (sphcut::tool_surface(view, xt, h, d, n, q, region) < 0) continue;    // no facet within 2h
-    if (sphcut::near_contact(d, h, sfac, atom->v[i], vtool, domain->dimension, update->dt))
+    // (a rotating tool: its surface velocity at the particle)
+    double vs[3] = {vtool[0], vtool[1], vtool[2]};
+    if (rot.on) {
+      double r[3];
+      for (int k = 0; k < 3; k++) r[k] = xi[k] - disp[k] - rot.p0[k];
+      if (nvert == 2) r[2] = 0.0;
+      sphcut::tool_surface_velocity(vtool, rot, r, vs);
+    }
+    if (sphcut::near_contact(d, h, sfac, atom->v[i], vs, domain->dimension, update->dt))
       lim = std::min(lim, spring_dt_crit(i));
   }
   return lim;
@@ -587,6 +658,15 @@ void FixContactTriPenalty::compute_tool_velocity()
     }
   }
   if (domain->dimension == 2) vtool[2] = 0.0;
+  if (!spin) return;
+  if (spin_var.empty()) omega = spin_const;
+  else {
+    omega = input->variable->compute_equal(input->variable->find(spin_var.c_str()));
+    if (!std::isfinite(omega))
+      error->all(FLERR, "Fix contact/tri-penalty: spin rate variable {} is {} at step {}: the rate must be a finite "
+                 "number", spin_var, std::isnan(omega) ? std::string("not a number (NaN)") : fmt::format("{}", omega),
+                 update->ntimestep);
+  }
 }
 
 void FixContactTriPenalty::update_tool_velocity()
@@ -640,9 +720,11 @@ void FixContactTriPenalty::warn_inside()
   // inside or on the surface, on the surface, outside within the contact radius
   double n[3] = {0.0, 0.0, 0.0}, dmin = 0.0;
   const sphcut::TriBinView view = bins.view();
+  const sphcut::ToolRotation rot = rotation();
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit) || (mask[i] & toolbit) || fix->role_of(mask[i]) == F::TOOL) continue;
-    const double xt[3] = {x[i][0] - disp[0], x[i][1] - disp[1], domain->dimension == 2 ? 0.0 : x[i][2] - disp[2]};
+    double xt[3];
+    sphcut::tool_frame_point(disp, rot, x[i], domain->dimension, xt);
     const double h = model->smoothing_length(atom->type[i]);
     const double d = sphcut::tool_signed_distance(bins, xt, sphcut::support_radius(h));
     if (d <= 1.0e-9 * h) {
@@ -672,6 +754,10 @@ void FixContactTriPenalty::warn_inside()
 void FixContactTriPenalty::initial_integrate(int)
 {
   for (int k = 0; k < 3; k++) disp[k] += update->dt * vtool[k];
+  // the angle about the fixed axis (in the tool frame): exact for a constant rate, no drift
+  theta += update->dt * omega;
+  omega_step = omega;
+  omega_step_set = spin;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -729,6 +815,7 @@ sphcut::ContactStep FixContactTriPenalty::step_params(double dt_force) const
   cs.feature = elem_feature.data();
   cs.base = contact_params(dt_force);
   for (int k = 0; k < 3; k++) cs.disp[k] = disp[k];
+  cs.rot = rotation();
   cs.dt = update->dt;
   cs.setup = update->setupflag;
   cs.fmemory = fmemory;
@@ -794,6 +881,7 @@ struct FixContactTriPenalty::HostSink {
       case sphcut::CS_QTOOL: fx->q_tool += val; break;
       case sphcut::CS_WORK_OLD: w_old += val; break;
       case sphcut::CS_DISS_OLD: d_old += val; break;
+      case sphcut::CS_TORQUE: fx->torque += val; break;
     }
   }
   void add_force(int k, double val) { fa[i][k] += val; }
@@ -876,7 +964,7 @@ void FixContactTriPenalty::clear_step_sums()
   }
   grow_output();
   for (int k = 0; k < 3; k++) ftool[k] = 0.0;
-  fric_power = work_rate = diss_rate = maxpen = 0.0;
+  fric_power = work_rate = diss_rate = maxpen = torque = 0.0;
   ncontact = 0;
   for (int ft = 0; ft < NFEAT; ft++)
     for (int c = 0; c < NDECOMP; c++) decomp[ft][c] = 0.0;
@@ -934,8 +1022,15 @@ void FixContactTriPenalty::end_of_step()
 std::vector<double> FixContactTriPenalty::current_elements() const
 {
   std::vector<double> out(elem);
-  for (size_t k = 0; k < out.size(); k += 3)
+  const sphcut::ToolRotation rot = rotation();
+  for (size_t k = 0; k < out.size(); k += 3) {
+    if (rot.on) {
+      double y[3] = {out[k] - rot.p0[0], out[k + 1] - rot.p0[1], nvert == 3 ? out[k + 2] - rot.p0[2] : 0.0}, r[3];
+      sphcut::rotate_fwd(rot.R, y, r);
+      for (int c = 0; c < 3; c++) out[k + c] = (nvert == 3 || c < 2) ? rot.p0[c] + r[c] : out[k + c];
+    }
     for (int c = 0; c < 3; c++) out[k + c] += (nvert == 3 || c < 2) ? disp[c] : 0.0;
+  }
   return out;
 }
 
@@ -965,11 +1060,19 @@ void FixContactTriPenalty::write_geometry()
    16-47 the decomposition by tool feature, 8 values each for rake (16-23),
    edge (24-31), flank (32-39), other (40-47: back face, STL tools): normal
    force on the tool x, y; friction force on the tool x, y; contacts;
-   sum F_N; sum |F_T|; contacts at the Coulomb limit |F_T| = mu F_N
+   sum F_N; sum |F_T|; contacts at the Coulomb limit |F_T| = mu F_N;
+   48-52 the tool fields' sums (fix_contact_tri_penalty_fields.cpp); 53 the
+   torque of the contact forces on the particles about the spin axis, 54 the
+   spindle power (53 times the rate; both 0 without spin)
 ------------------------------------------------------------------------- */
 
 double FixContactTriPenalty::compute_vector(int n)
 {
+  if (n >= NVEC_SPIN) {
+    double res = 0.0;
+    MPI_Allreduce(&torque, &res, 1, MPI_DOUBLE, MPI_SUM, world);
+    return n == NVEC_SPIN ? res : res * rotation().omega;
+  }
   if (n >= NVEC_BASE) return fields.glob[n - NVEC_BASE];
   double loc = 0.0, res = 0.0;
   if (n <= 2) loc = ftool[n];
@@ -1007,14 +1110,17 @@ void FixContactTriPenalty::write_restart(FILE *fp)
 {
   double loc[5] = {q_work, q_tool, q_tool_lost, tool_work, contact_diss}, tot[5];
   MPI_Allreduce(loc, tot, 5, MPI_DOUBLE, MPI_SUM, world);
-  // version 3: a NaN tag, the version, the 10 values of version 1 (no tag), the tool's fingerprint
-  // (tool_fingerprint: restart() checks that the input gives the same tool), the tool fields
-  // (version 2 had no fingerprint)
-  std::vector<double> list = {std::nan(""), 3.0, disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2],
+  // version 4: a NaN tag, the version, the 10 values of version 1 (no tag), the tool's fingerprint
+  // (tool_fingerprint: restart() checks that the input gives the same tool), the angle the tool
+  // has turned (spin) and the rate of its last step (NaN: none yet), the tool fields (version 3 had
+  // neither, version 2 no fingerprint)
+  std::vector<double> list = {std::nan(""), 4.0, disp[0], disp[1], disp[2], tool_temp, tot[0], tot[1], tot[2],
                               tot[3], tot[4], dt_last};
   double finger[NFINGER];
   tool_fingerprint(finger);
   list.insert(list.end(), finger, finger + NFINGER);
+  list.push_back(theta);
+  list.push_back(omega_step_set ? omega_step : std::nan(""));
   fields_write_restart(list);    // collective
   if (comm->me == 0) {
     int size = (int) (list.size() * sizeof(double));
@@ -1040,7 +1146,12 @@ void FixContactTriPenalty::restart(char *buf)
   contact_diss = me0 ? list[8] : 0.0;
   dt_last = list[9];
   if (version >= 3) check_fingerprint(list + 10);
-  if (version >= 2) fields_restart(list + 10 + (version >= 3 ? NFINGER : 0));
+  if (version >= 4) {
+    theta = list[10 + NFINGER];
+    omega_step_set = !std::isnan(list[11 + NFINGER]);
+    omega_step = omega_step_set ? list[11 + NFINGER] : 0.0;
+  }
+  if (version >= 2) fields_restart(list + 10 + (version >= 3 ? NFINGER : 0) + (version >= 4 ? 2 : 0));
 }
 
 // what restart files keep of the tool: its elements and the bounding box of their vertices in the

@@ -59,7 +59,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   // constant velocity it reads only its own sums (tool fields, outputs, the geometry file)
   bool end_of_step_reads_particles() const override
   {
-    return !vvar[0].empty() || !vvar[1].empty() || !vvar[2].empty();
+    return !vvar[0].empty() || !vvar[1].empty() || !vvar[2].empty() || !spin_var.empty();
   }
   // time step limit of the penalty spring on this rank (fix sph/jc-thermal stable_dt takes the
   // minimum over the ranks): dtfac cfl times the stability limit of the particles in or about to be in contact
@@ -74,6 +74,19 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   double disp[3], vtool[3];
   std::string vvar[3];            // equal-style variables of the tool velocity (empty: constant)
   double vconst[3];
+  // rigid rotation (keyword spin AX AY AZ PX PY PZ RATE): the unit axis, its point in the tool frame,
+  // the rate (a number, or an equal-style variable: spin_var), the angle turned so far (the pose is
+  // Rodrigues' matrix of the angle: no drift of the axis) and this step's torque sum (CS_TORQUE)
+  int spin = 0;
+  double spin_axis[3] = {0.0, 0.0, 1.0}, spin_point[3] = {0.0, 0.0, 0.0};
+  double spin_const = 0.0, omega = 0.0, theta = 0.0, torque = 0.0;
+  // the rate that turned the tool in its last step (the contact's surface velocity: at the setup of
+  // a continued run as at that step's end, so that the run continues bit for bit with a ramp)
+  double omega_step = 0.0;
+  int omega_step_set = 0;
+  std::string spin_var;
+  int parse_spin(int iarg, int narg, char **arg);
+  sphcut::ToolRotation rotation() const;    // the pose of the current angle (step_params)
   // contact parameters
   double etool, pfac, dfac, sfac, vreg;
   int vreg_set;
@@ -168,6 +181,8 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   // averaged over N steps (sphcut_tool_fields.h; the per-contact arithmetic in sphcut_contact.h)
  public:
   enum { NVEC_BASE = 15 + NFEAT * NDECOMP };    // vector elements before the tool fields' global sums
+  // after them (1-based 53, 54): the torque about the spin axis, the spindle power torque * rate
+  enum { NVEC_SPIN = NVEC_BASE + sphcut::ToolFields::NGLOB, NVEC = NVEC_SPIN + 2 };
   sphcut::ToolFields fields;
  protected:
   int fields_parse(const std::string &kw, int iarg, int narg, char **arg);    // values used, 0: not ours

@@ -47,7 +47,7 @@ int FixContactTriPenalty::fields_parse(const std::string &kw, int iarg, int narg
 
 void FixContactTriPenalty::fields_setup()
 {
-  size_vector = NVEC_BASE + sphcut::ToolFields::NGLOB;
+  size_vector = NVEC;    // the tool fields' sums, then the spin's (fix_contact_tri_penalty.h)
   if (fields.wear && !fields.every)
     error->all(FLERR, "Fix contact/tri-penalty: wear usui needs tool_fields N (the averaging interval)");
   if (fields.wear && id_heat.empty())

@@ -46,6 +46,71 @@
 
 namespace sphcut {
 
+// the rigid rotation of the tool (fix contact/tri-penalty keyword spin): the tool frame turned
+// by the angle theta about the unit axis a through the point p0 of the tool frame, which the
+// translation disp carries to p0 + disp.  A point X of the tool frame is at
+//   x = p0 + disp + R (X - p0)            (R: Rodrigues' matrix of a and theta, row-major)
+// and a particle at x is at X = p0 + R^T (x - disp - p0) in the tool frame.  The surface of the
+// tool moves with v = vtool + omega a x (x - p0 - disp).  on = 0: no rotation (R the identity,
+// never applied: a translating tool's contact is computed as before, to the bit)
+struct ToolRotation {
+  int on = 0;
+  double R[9] = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  double axis[3] = {0.0, 0.0, 1.0};    // unit axis a
+  double p0[3] = {0.0, 0.0, 0.0};      // a point of the axis, tool frame
+  double omega = 0.0;                  // rate (rad/time) about a, right-handed
+};
+
+// Rodrigues: R = cos(t) I + sin(t) [a]x + (1 - cos(t)) a a^T, a a unit vector (row-major)
+SPHCUT_INLINE void rotation_matrix(const double *a, double t, double *R)
+{
+  const double c = cos(t), s = sin(t), C = 1.0 - c;
+  R[0] = c + C * a[0] * a[0];
+  R[1] = C * a[0] * a[1] - s * a[2];
+  R[2] = C * a[0] * a[2] + s * a[1];
+  R[3] = C * a[1] * a[0] + s * a[2];
+  R[4] = c + C * a[1] * a[1];
+  R[5] = C * a[1] * a[2] - s * a[0];
+  R[6] = C * a[2] * a[0] - s * a[1];
+  R[7] = C * a[2] * a[1] + s * a[0];
+  R[8] = c + C * a[2] * a[2];
+}
+
+// out = R in (tool frame to simulation frame), out = R^T in (back)
+SPHCUT_INLINE void rotate_fwd(const double *R, const double *in, double *out)
+{
+  for (int r = 0; r < 3; r++) out[r] = R[3 * r] * in[0] + R[3 * r + 1] * in[1] + R[3 * r + 2] * in[2];
+}
+SPHCUT_INLINE void rotate_back(const double *R, const double *in, double *out)
+{
+  for (int c = 0; c < 3; c++) out[c] = R[c] * in[0] + R[3 + c] * in[1] + R[6 + c] * in[2];
+}
+
+// the tool-frame position xt of a point x of the simulation frame (2D: z = 0)
+SPHCUT_INLINE void tool_frame_point(const double *disp, const ToolRotation &rot, const double *x, int dim,
+                                    double *xt)
+{
+  if (!rot.on) {
+    for (int k = 0; k < 3; k++) xt[k] = x[k] - disp[k];
+  } else {
+    double y[3], r[3];
+    for (int k = 0; k < 3; k++) y[k] = x[k] - disp[k] - rot.p0[k];
+    if (dim == 2) y[2] = 0.0;
+    rotate_back(rot.R, y, r);
+    for (int k = 0; k < 3; k++) xt[k] = rot.p0[k] + r[k];
+  }
+  if (dim == 2) xt[2] = 0.0;
+}
+
+// the velocity of the tool's surface at r = x - (p0 + disp) (the arm from the axis point, simulation frame)
+SPHCUT_INLINE void tool_surface_velocity(const double *vtool, const ToolRotation &rot, const double *r, double *vs)
+{
+  double w[3], c[3];
+  for (int k = 0; k < 3; k++) w[k] = rot.omega * rot.axis[k];
+  cross3(w, r, c);
+  for (int k = 0; k < 3; k++) vs[k] = vtool[k] + c[k];
+}
+
 // what is the same for every particle of one contact evaluation
 struct ContactStep {
   TriBinView tool;                  // the tool's bins, tool frame (host or device copies)
@@ -53,6 +118,7 @@ struct ContactStep {
   ContactIn base;                   // the ContactIn fields common to all particles (vtool, dim, E_tool,
                                     // factors, friction law: FixContactTriPenalty::contact_params)
   double disp[3] = {0.0, 0.0, 0.0};    // tool displacement: the particles are queried at x - disp
+  ToolRotation rot;                 // and, when rot.on, turned back into the tool frame (tool_frame_point)
   double dt = 0.0;                  // this step's time step (dt band, tool fields, heat booked)
   int setup = 0;                    // a setup evaluation: forces only, no time passes
   int fmemory = 0;                  // friction with memory (the FMEM columns)
@@ -74,8 +140,10 @@ struct ContactStep {
 // it), into a lumped tool, into the tool (lumped or particles)
 enum ContactSum {
   CS_FX = 0, CS_FY, CS_FZ, CS_WORK, CS_DISS, CS_FRIC, CS_QWORK, CS_QLOST, CS_QLUMP, CS_QTOOL,
-  CS_WORK_OLD, CS_DISS_OLD, NCS
+  CS_WORK_OLD, CS_DISS_OLD, CS_TORQUE, NCS
 };
+// CS_TORQUE: a . sum (x_c - p) x f, the torque of the contact forces f on the particles about the tool's
+// axis (x_c the contact point, p the axis point): what the spindle supplies; 0 without rotation
 
 // the kernel weight with which a tool particle at distance^2 r2 takes a share of the tool's
 // friction heat of a contact particle (pair smoothing length h); 0 beyond the kernel support
@@ -145,11 +213,20 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   // energy over the step with the weights of velocity Verlet: the particle gains
   // dt/2 (F^n + F^(n+1)).v^(n+1/2), v^(n+1/2) the velocity that drifts it this step.
   // The F^n half, with the contact force of the previous step (particles that had one).
-  if (fc[0] != 0.0 || fc[1] != 0.0 || fc[2] != 0.0)
-    for (int k = 0; k < dim; k++) {
-      sink.add(CS_WORK_OLD, fc[k] * b.vtool[k]);
-      sink.add(CS_DISS_OLD, fc[k] * (b.vtool[k] - sink.v(k)));
+  if (fc[0] != 0.0 || fc[1] != 0.0 || fc[2] != 0.0) {
+    // a rotating tool: its surface velocity at the particle (the contact point of the last step
+    // is not kept; the two differ by omega d n x a, d < 0.5 h/sfac)
+    double vt0[3] = {b.vtool[0], b.vtool[1], b.vtool[2]};
+    if (cs.rot.on) {
+      const double r[3] = {sink.x(0) - cs.disp[0] - cs.rot.p0[0], sink.x(1) - cs.disp[1] - cs.rot.p0[1],
+                           dim == 2 ? 0.0 : sink.x(2) - cs.disp[2] - cs.rot.p0[2]};
+      tool_surface_velocity(b.vtool, cs.rot, r, vt0);
     }
+    for (int k = 0; k < dim; k++) {
+      sink.add(CS_WORK_OLD, fc[k] * vt0[k]);
+      sink.add(CS_DISS_OLD, fc[k] * (vt0[k] - sink.v(k)));
+    }
+  }
   fc[0] = fc[1] = fc[2] = 0.0;
   for (int k = 0; k < 6; k++) fo[k] = 0.0;
   // friction memory: a step takes the last step's friction force as f_old, remembers it
@@ -158,12 +235,37 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   if (!candidate) return;
 
   const double h = sink.h();
-  const double xt[3] = {sink.x(0) - cs.disp[0], sink.x(1) - cs.disp[1], dim == 2 ? 0.0 : sink.x(2) - cs.disp[2]};
+  double xt[3];
+  if (!cs.rot.on) {
+    xt[0] = sink.x(0) - cs.disp[0];
+    xt[1] = sink.x(1) - cs.disp[1];
+    xt[2] = dim == 2 ? 0.0 : sink.x(2) - cs.disp[2];
+  } else {
+    const double xs[3] = {sink.x(0), sink.x(1), sink.x(2)};
+    tool_frame_point(cs.disp, cs.rot, xs, dim, xt);
+  }
   ContactIn in = b;
   double q[3];
   int region;
   const int best = tool_surface(cs.tool, xt, h, in.d, in.n, q, region);
   if (best < 0) return;
+  // a rotating tool: the query ran in the tool frame (the bins as built); the normal and the
+  // contact point back in the simulation frame, where the contact law runs with the surface
+  // velocity there (the law is isotropic: the same as running it in the tool frame on the turned
+  // particle velocity and forces and turning its force back)
+  double arm[3] = {0.0, 0.0, 0.0};    // contact point minus axis point, simulation frame
+  if (cs.rot.on) {
+    double nt[3], qt[3];
+    for (int k = 0; k < 3; k++) {
+      nt[k] = in.n[k];
+      qt[k] = q[k] - cs.rot.p0[k];
+    }
+    if (dim == 2) qt[2] = 0.0;
+    rotate_fwd(cs.rot.R, nt, in.n);
+    rotate_fwd(cs.rot.R, qt, arm);
+    tool_surface_velocity(b.vtool, cs.rot, arm, in.vtool);
+    if (dim == 2) in.n[2] = in.vtool[2] = 0.0;
+  }
   // the velocity of this step, for a continued run's setup (repeat, below) of a particle in
   // contact: kept by the particles that find the tool within 2h (a particle in contact at a
   // setup found it the step before), so that the others touch no contact column on a step
@@ -177,7 +279,7 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   const double sp = sink.spacing();
   const double dp = sp > 0.0 ? sp : h / b.sfac;
   const double E = sink.E();
-  if (near_contact(in.d, h, b.sfac, v, b.vtool, dim, cs.dt))
+  if (near_contact(in.d, h, b.sfac, v, in.vtool, dim, cs.dt))
     sink.dt_crit(contact_spring_dt(E, b.E_tool, dp, b.pfac, b.dfac, m, dim));
   const double rc = 0.5 * h / b.sfac;    // contact radius, eq. 9
   if (rc - in.d <= 0.0) return;
@@ -196,7 +298,7 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   for (int k = 0; k < 3; k++) {
     in.x[k] = sink.x(k);
     in.v[k] = vuse[k];
-    in.q[k] = q[k] + cs.disp[k];
+    in.q[k] = cs.rot.on ? cs.rot.p0[k] + cs.disp[k] + arm[k] : q[k] + cs.disp[k];
     in.f_other[k] = k < dim ? sink.f(k) : 0.0;
   }
   in.mass = m;
@@ -219,9 +321,18 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   fo[4] = rec[DREC_FT];
   fo[5] = feat + 1;
   // tool fields: the facets sharing the feature that holds the closest point, weighted by dt
-  if (cs.fields && !cs.setup)
-    facet_scatter(cs.share, cs.inv_area, best, region, out, s[SL::TEMP_F], cs.wear_K, cs.wear_alpha, cs.dt,
-                  [&](int f, const double *c) { sink.facet(f, c); });
+  // (a rotating tool: the force on each facet in the tool frame)
+  if (cs.fields && !cs.setup) {
+    if (!cs.rot.on) {
+      facet_scatter(cs.share, cs.inv_area, best, region, out, s[SL::TEMP_F], cs.wear_K, cs.wear_alpha, cs.dt,
+                    [&](int f, const double *c) { sink.facet(f, c); });
+    } else {
+      ContactOut ot = out;
+      rotate_back(cs.rot.R, out.f, ot.f);
+      facet_scatter(cs.share, cs.inv_area, best, region, ot, s[SL::TEMP_F], cs.wear_K, cs.wear_alpha, cs.dt,
+                    [&](int f, const double *c) { sink.facet(f, c); });
+    }
+  }
   // no XSPH drift along the contact normal (contact_drift)
   contact_drift(s + SL::XSPH, in.n);
   for (int k = 0; k < dim; k++) {
@@ -229,9 +340,14 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
     fc[k] = out.f[k];
     fo[k] = out.f[k];
     sink.add(CS_FX + k, -out.f[k]);
-    sink.add(CS_WORK, out.f[k] * b.vtool[k]);
+    sink.add(CS_WORK, out.f[k] * in.vtool[k]);
     // friction + dashpot (+ spring) power
-    sink.add(CS_DISS, out.f[k] * (b.vtool[k] - sink.v(k)));
+    sink.add(CS_DISS, out.f[k] * (in.vtool[k] - sink.v(k)));
+  }
+  if (cs.rot.on) {
+    double tq[3];
+    cross3(arm, out.f, tq);
+    sink.add(CS_TORQUE, dot3(tq, cs.rot.axis));
   }
   sink.add(CS_FRIC, out.fric_power);
   contact_heat(cs, out.fric_power, m, sink);
