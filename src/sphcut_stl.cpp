@@ -4,6 +4,7 @@
 ------------------------------------------------------------------------- */
 
 #include "sphcut_stl.h"
+#include "sphcut_contact_step.h"
 
 #include <algorithm>
 #include <cctype>
@@ -288,17 +289,7 @@ void StlTransform::set_axis_angle(const double *axis, double angle_deg)
   const double l = len3(axis);
   if (!(l > 0.0)) throw std::invalid_argument("STL rotation: zero rotation axis");
   const double u[3] = {axis[0] / l, axis[1] / l, axis[2] / l};
-  const double c = cos(angle_deg * DEG), s = sin(angle_deg * DEG), t = 1.0 - c;
-  // Rodrigues: R = c I + s [u]x + t u u^T
-  rot[0] = c + t * u[0] * u[0];
-  rot[1] = t * u[0] * u[1] - s * u[2];
-  rot[2] = t * u[0] * u[2] + s * u[1];
-  rot[3] = t * u[1] * u[0] + s * u[2];
-  rot[4] = c + t * u[1] * u[1];
-  rot[5] = t * u[1] * u[2] - s * u[0];
-  rot[6] = t * u[2] * u[0] - s * u[1];
-  rot[7] = t * u[2] * u[1] + s * u[0];
-  rot[8] = c + t * u[2] * u[2];
+  rotation_matrix(u, angle_deg * DEG, rot);    // Rodrigues, the rotating tool's (sphcut_contact_step.h)
 }
 
 void StlTransform::set_euler_zyx(double az_deg, double ay_deg, double ax_deg)

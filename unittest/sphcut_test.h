@@ -18,10 +18,27 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cstdio>
 #include <string>
 #include <vector>
 
 namespace sphcut_test {
+
+// a number as an input's text, every digit of the double kept
+inline std::string num(double x)
+{
+  char buf[40];
+  snprintf(buf, sizeof(buf), "%.17g", x);
+  return buf;
+}
+
+// this process's rank in MPI_COMM_WORLD
+inline int rank()
+{
+  int me;
+  MPI_Comm_rank(MPI_COMM_WORLD, &me);
+  return me;
+}
 
 // command-line switches of every instance: none, or (a test program compiled with
 // SPHCUT_TEST_KOKKOS) the /kk styles on the Kokkos OpenMP backend

@@ -38,12 +38,7 @@ const double RHO = 7800.0, DP = 1.0e-3, H = 1.3e-3, SFAC = 1.2;
 const double RC = 0.5 * H / SFAC;    // contact radius, seed 000 eq. 9
 const double PI = 3.14159265358979323846;
 
-std::string num(double x)
-{
-  char buf[40];
-  snprintf(buf, sizeof(buf), "%.17g", x);
-  return buf;
-}
+using sphcut_test::num;
 
 void write_box(const std::string &file, std::vector<double> lo, std::vector<double> hi, bool binary = false)
 {
@@ -58,12 +53,7 @@ void write_plate(const std::string &file = "plate.stl")
   write_box(file, {-0.02, -0.005, -0.02}, {0.02, 0.0, 0.02});
 }
 
-int rank()
-{
-  int me;
-  MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  return me;
-}
+using sphcut_test::rank;
 
 // one particle of an elastic material (E Pa, no plasticity) at x, in 2D or 3D
 void one_particle(Lammps &l, int dim, const double *x, double E = 1.0e6, const std::string &extra = "")

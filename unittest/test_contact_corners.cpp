@@ -36,12 +36,7 @@ const double PI = 3.14159265358979323846;
 const double RHO = 7800.0, DP = 1.0e-3, H = 1.3e-3;    // hdx 1.3
 typedef std::array<double, 3> Vec;
 
-std::string num(double x)
-{
-  char buf[40];
-  snprintf(buf, sizeof(buf), "%.17g", x);
-  return buf;
-}
+using sphcut_test::num;
 
 Vec sub(const Vec &a, const Vec &b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 double dot(const Vec &a, const Vec &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

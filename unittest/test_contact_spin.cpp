@@ -38,19 +38,8 @@ const double RC = 0.5 * H / SFAC;
 const double PI = 3.14159265358979323846;
 const double MU = 0.3, W = 1000.0;    // friction coefficient, spin rate (rad/s)
 
-std::string num(double x)
-{
-  char buf[40];
-  snprintf(buf, sizeof(buf), "%.17g", x);
-  return buf;
-}
-
-int rank()
-{
-  int me;
-  MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  return me;
-}
+using sphcut_test::num;
+using sphcut_test::rank;
 
 bool serial()
 {

@@ -86,12 +86,7 @@ std::vector<Block> doc_examples(const std::string &dir)
   return out;
 }
 
-std::string num(double x)
-{
-  char buf[40];
-  snprintf(buf, sizeof(buf), "%.17g", x);
-  return buf;
-}
+using sphcut_test::num;
 
 std::string first_word(const std::string &line)
 {

@@ -1701,12 +1701,7 @@ TEST(KokkosThermal, DecompositionOnAnyStepAsOnTheCpu)
 
 namespace {
 
-std::string num(double x)
-{
-  char b[40];
-  snprintf(b, sizeof(b), "%.17g", x);
-  return b;
-}
+// num(): sphcut_test::num
 
 // the plate: the box y in [-5, 0] mm (x, z in [-20, 20] mm) as dtplate.stl (rank 0 writes it)
 void write_plate_stl()

@@ -118,11 +118,7 @@ double cut_diff(const std::vector<double> &a, const std::vector<double> &b)
   return d;
 }
 
-int rank() {
-  int me;
-  MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  return me;
-}
+// rank(): sphcut_test::rank
 
 // rank 0 alone
 MPI_Comm solo()

@@ -34,19 +34,9 @@ const double E = 1.0e7, MU = 0.3, KUSUI = 7.8e-9, ALPHA = 2500.0, T0 = 900.0, DT
 // per-facet columns (f_ID[facet][column], 0-based here; sphcut::ToolFields)
 enum { SN = 0, TAU, VS, TEMP, NC, WEAR, DEPTH, FX, FY, FZ, AREA, FEAT, CX, CY, CZ, NCOL };
 
-std::string num(double x)
-{
-  char buf[40];
-  snprintf(buf, sizeof(buf), "%.17g", x);
-  return buf;
-}
+using sphcut_test::num;
 
-int rank()
-{
-  int me;
-  MPI_Comm_rank(MPI_COMM_WORLD, &me);
-  return me;
-}
+using sphcut_test::rank;
 
 // the plate: top face y = 0 with vertices at x = +-9.5 mm (2D tests), or a plain box (3D)
 void write_tools()
