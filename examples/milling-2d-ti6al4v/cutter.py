@@ -10,14 +10,39 @@ m = (cos phi, -sin phi).  The rake face runs from the tip inward over the gullet
 back by the rake angle; the clearance face runs back from the tip over flank_length at the
 clearance angle below the tangent; then the heel drops to the core radius R - d, whose arc
 runs to the next rake face.  Usage:
-  python3 cutter.py -o cutter.stl --R 1e-3 --teeth 2 --phi0 -5 [--rake 0 --clearance 7 --gullet 0.3 --flank 0.1]
-(--gullet and --flank as fractions of R; lengths in m)."""
+  python3 cutter.py -o cutter.stl --R 1e-3 --teeth 2 --phi0 -5 [--rake 0 --clearance 7 --gullet 0.3 --flank 0.1
+                    --rn 38e-6 --info cutter.in]
+(--gullet and --flank as fractions of R; lengths in m).  With an edge radius rn the corner of rake
+face and flank is an arc tangent to both (8 chords): the teeth then reach out to the envelope
+radius Renv < R (--info writes it, and the angle of the centroid of the first side facet, as
+LAMMPS variables)."""
 import argparse
 import math
 import sys
 
 
-def outline(R, Z, phi0, rake, clearance, gullet, flank, narc=12):
+def fillet(T, ur, uf, rn, nseg):
+    """The corner T between the rake face (direction ur from T) and the flank (uf from T) rounded
+    with radius rn in nseg chords: the points from the rake face's tangent point to the flank's."""
+    if rn <= 0.0:
+        return [T]
+    beta = math.acos(max(-1.0, min(1.0, ur[0] * uf[0] + ur[1] * uf[1])))     # wedge angle
+    t = rn / math.tan(0.5 * beta)
+    bis = (ur[0] + uf[0], ur[1] + uf[1])
+    lb = math.hypot(*bis)
+    C = (T[0] + bis[0] / lb * rn / math.sin(0.5 * beta), T[1] + bis[1] / lb * rn / math.sin(0.5 * beta))
+    Pr = (T[0] + t * ur[0], T[1] + t * ur[1])
+    Pf = (T[0] + t * uf[0], T[1] + t * uf[1])
+    a0 = math.atan2(Pr[1] - C[1], Pr[0] - C[0])
+    a1 = math.atan2(Pf[1] - C[1], Pf[0] - C[0])
+    sweep = math.pi - beta                                                  # the arc turns by 180 - wedge
+    if (a1 - a0) % (2 * math.pi) > math.pi:                                 # the short way round
+        sweep = -sweep
+    return [(C[0] + rn * math.cos(a0 + sweep * i / nseg), C[1] + rn * math.sin(a0 + sweep * i / nseg))
+            for i in range(nseg + 1)]
+
+
+def outline(R, Z, phi0, rake, clearance, gullet, flank, rn=0.0, nedge=8, narc=12):
     """Polygon vertices, counter-clockwise (math sense: against the cutter's rotation)."""
     d, lf = gullet * R, flank * R
     g, a = math.radians(rake), math.radians(clearance)
@@ -32,7 +57,11 @@ def outline(R, Z, phi0, rake, clearance, gullet, flank, narc=12):
         T = (R * r[0], R * r[1])
         F = (T[0] - lf * (math.cos(a) * m[0] + math.sin(a) * r[0]),
              T[1] - lf * (math.cos(a) * m[1] + math.sin(a) * r[1]))
-        pts += [T, F]
+        ur = (-r[0] - math.tan(g) * m[0], -r[1] - math.tan(g) * m[1])       # rake face, from the tip inward
+        lu = math.hypot(*ur)
+        ur = (ur[0] / lu, ur[1] / lu)
+        uf = (-(math.cos(a) * m[0] + math.sin(a) * r[0]), -(math.cos(a) * m[1] + math.sin(a) * r[1]))
+        pts += fillet(T, ur, uf, rn, nedge) + [F]
         # heel: from F down to the core circle 0.15 pitch behind the flank's end
         phF = math.atan2(F[0], F[1])
         ph_heel = phF - 0.15 * pitch
@@ -111,13 +140,17 @@ def main():
     ap.add_argument("--clearance", type=float, default=7.0, help="clearance angle (deg)")
     ap.add_argument("--gullet", type=float, default=0.3, help="gullet depth / R")
     ap.add_argument("--flank", type=float, default=0.1, help="clearance face length / R")
+    ap.add_argument("--rn", type=float, default=0.0, help="cutting-edge radius (m; 0: sharp)")
     ap.add_argument("--info", default="", help="also write LAMMPS variables of the geometry to this file")
     ap.add_argument("--cx", type=float, default=0.0)
     ap.add_argument("--cy", type=float, default=0.0)
     o = ap.parse_args()
     if o.teeth < 1 or o.R <= 0 or not 0 < o.gullet < 0.9 or not 0 < o.flank or not 0 <= o.clearance < 45:
         sys.exit("cutter.py: need teeth >= 1, R > 0, 0 < gullet < 0.9, flank > 0, 0 <= clearance < 45")
-    p = outline(o.R, o.teeth, o.phi0, o.rake, o.clearance, o.gullet, o.flank)
+    if o.rn < 0 or o.rn > 0.5 * o.flank * o.R:
+        sys.exit("cutter.py: need 0 <= rn <= flank R / 2")
+    p = outline(o.R, o.teeth, o.phi0, o.rake, o.clearance, o.gullet, o.flank, o.rn)
+    renv = max(math.hypot(x, y) for x, y in p)         # the teeth's envelope (the rounded edge lies inside R)
     p = [(x + o.cx, y + o.cy) for x, y in p]
     if area(p) <= 0:
         sys.exit("cutter.py: the outline is not counter-clockwise (check the parameters)")
@@ -141,8 +174,9 @@ def main():
         c = [(p[0][k] + 3.0 * p[1][k]) / 4.0 for k in range(2)]
         with open(o.info, "w") as f:
             f.write("variable cang0 equal %.17g\n" % math.degrees(math.atan2(c[0] - o.cx, c[1] - o.cy)))
-    print("cutter.py: %d teeth, R %g m, %d outline vertices, section area %.6g m^2 -> %s"
-          % (o.teeth, o.R, len(p), area(p), o.out))
+            f.write("variable Renv equal %.17g\n" % renv)
+    print("cutter.py: %d teeth, R %g m, edge radius %g m, envelope radius %.9g m, %d outline vertices, "
+          "section area %.6g m^2 -> %s" % (o.teeth, o.R, o.rn, renv, len(p), area(p), o.out))
 
 
 if __name__ == "__main__":
