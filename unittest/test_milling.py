@@ -7,8 +7,8 @@ steps; 3,000 steps in all.  Asserts the physics of the rotating cutter from mill
   particles about the axis 0 0 -1) is > 0 once a tooth is in contact: the cut's torque on the
   cutter, its negative, resists the rotation;
 - spindle power (element 54) = torque * w;
-- the forces are finite and below 10 times the mechanistic model's peak; no particle starts in
-  the tool's contact radius.
+- the forces are finite and bounded; no particle starts in the tool's contact radius;
+- plot.py's mechanistic model gives (-F_r, F_t) at phi 90 and reads the run's parameters.
 Usage: python3 test_milling.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
 import math
 import os
@@ -66,4 +66,17 @@ fmax = max(math.hypot(r[4], r[5]) for r in rows)
 check(all(math.isfinite(x) for r in rows for x in r[4:8]), "forces, torque and power finite")
 check(fmax < 2000.0, f"largest |F| {fmax:.1f} N/mm < 2000")
 check(rows[-1][5] > 0.0, f"down-milling near the entry pushes the cutter in +y: Fy {rows[-1][5]:.1f} N/mm")
+# 5. the model of plot.py: at phi 90 (up-milling, ae = R: the tooth points along the feed) the force on
+# the cutter is (-F_r, F_t), the torque R F_t; nothing outside the engagement; and plot.py reads the run
+sys.path.insert(0, exdir)
+import plot  # noqa: E402
+v, K = plot.coefficients(72.0)
+ft, fr = K["Kc"] * 0.08 + K["Ke"], K["Kr"] * 0.08 + K["Kre"]
+fx, fy, tq = plot.model(90.0, R, 2, 0.08e-3, R, "up", K)
+check(v == 70.0 and abs(fx + fr) < 1e-9 and abs(fy - ft) < 1e-9 and abs(tq - R * ft) < 1e-15,
+      f"model at phi 90: Fx {fx:.3f} = -F_r {-fr:.3f}, Fy {fy:.3f} = F_t {ft:.3f} N/mm (fits at {v} m/min)")
+check(plot.model(100.0, R, 2, 0.08e-3, 0.5e-3, "up", K) == (0.0, 0.0, 0.0), "model: no force outside the engagement")
+pl = subprocess.run([sys.executable, os.path.join(exdir, "plot.py"), "-o", "milling.png"], capture_output=True, text=True)
+check(pl.returncode == 0 and "engagement of a tooth 120.0..180.0" in pl.stdout,
+      "plot.py reads milling.dat and the run's milling.params (down-milling): " + (pl.stdout + pl.stderr)[-300:])
 sys.exit(1 if fails else 0)

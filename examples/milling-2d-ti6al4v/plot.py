@@ -4,7 +4,8 @@
 Reads milling.dat (in.milling) in the current folder, writes milling.png and prints the peak and
 mean forces of the simulation and the model over the angles run.  Usage:
   python3 plot.py [milling.dat] [--R 1e-3 --teeth 2 --fz 0.08e-3 --ae 0.5e-3 --mode up --vc 70]
-(the values in.milling ran with; the defaults are in.milling's).
+(default: the values of milling.params, which in.milling writes beside milling.dat, else in.milling's
+defaults; an option given here wins).
 
 Angle convention (Altintas, "Manufacturing Automation", ch. 2): the cutter turns clockwise seen
 from +z, the feed is +x, phi is a tooth's angle clockwise from +y; the uncut chip thickness is
@@ -75,6 +76,14 @@ def main():
     ap.add_argument("--mode", default="up", choices=("up", "down"))
     ap.add_argument("--vc", type=float, default=70.0)
     ap.add_argument("-o", "--out", default="milling.png")
+    # the values the run used (in.milling writes milling.params beside milling.dat) unless given here
+    import os
+    params = os.path.join(os.path.dirname(os.path.abspath(ap.parse_args().data)), "milling.params")
+    if os.path.exists(params):
+        t = open(params).read().split()
+        kv = dict(zip(t[0::2], t[1::2]))
+        ap.set_defaults(**{k: (float(v) if k in ("R", "fz", "ae", "vc") else int(v) if k == "teeth" else v)
+                           for k, v in kv.items() if k in ("R", "teeth", "fz", "ae", "mode", "vc")})
     o = ap.parse_args()
     v, K = coefficients(o.vc)
     rows = read(o.data)

@@ -14,6 +14,6 @@ $LMP $kk -in "$here/in.milling" -var exdir "$here" -var dx "$DX" -var turn "$TUR
   -log log.milling | awk '/^milling:|^cutter.py/{print} /^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time|WARNING|ERROR/{print}'
 # Debian's python3 has matplotlib (tools/build-deps.sh installs it)
 PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
-# plot.py takes the process values the run used (its defaults are in.milling's)
+# plot.py takes the process values the run used from milling.params
 $PY "$here/plot.py"
 $PY "$here/picture.py" && echo "plots: milling.png picture.png"
