@@ -1,0 +1,82 @@
+"""The 2D milling example (examples/milling-2d-ti6al4v, issue 55) at the coarse spacing (dx 25 um),
+down-milling from 1 degree before the entry, so that a tooth cuts a thick chip after about 1,300
+steps; 3,000 steps in all.  Asserts the physics of the rotating cutter from milling.dat:
+- the cutter's pose turns by rate * time: tooth 0's angle measured from the fix's turned facet
+  (phi, from the tool-field centroid) equals phi0 + w t with w = vc / R, to 1e-8 degrees;
+- the spindle torque (fix contact/tri-penalty element 53, the torque of the contact forces on the
+  particles about the axis 0 0 -1) is > 0 once a tooth is in contact: the cut's torque on the
+  cutter, its negative, resists the rotation;
+- spindle power (element 54) = torque * w;
+- the forces are finite and bounded; no particle starts in the tool's contact radius;
+- plot.py's mechanistic model gives (-F_r, F_t) at phi 90 and reads the run's parameters.
+Usage: python3 test_milling.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
+import math
+import os
+import subprocess
+import sys
+
+lmp, exdir = sys.argv[1], sys.argv[2]
+R, VC = 1.0e-3, 70.0
+W = VC / 60.0 / R
+args = [lmp, "-in", os.path.join(exdir, "in.milling"), "-var", "exdir", exdir, "-var", "dx", "25e-6",
+        "-var", "mode", "down", "-var", "lead", "1", "-var", "steps", "3000", "-var", "R", repr(R),
+        "-var", "vc", repr(VC), "-log", "log.milling"]
+run = subprocess.run(args, capture_output=True, text=True)
+out = run.stdout + run.stderr
+if run.returncode != 0:
+    sys.exit("FAILED: LAMMPS run failed\n" + out[-4000:])
+fails = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what)
+    if not cond:
+        fails.append(what)
+
+
+check("start within the contact radius" not in out, "no particle starts within the tool's contact radius")
+rows = []
+with open("milling.dat") as f:
+    for line in f:
+        if not line.startswith("#") and line.strip():
+            rows.append([float(x) for x in line.split()])
+rows = [r for r in rows if r[0] > 0]                 # step 0: the tool fields are not set yet
+check(len(rows) >= 290, f"{len(rows)} rows of milling.dat")
+phi0 = 180.0 - math.degrees(math.acos(1.0 - 0.5e-3 / R)) - 1.0
+# 1. the pose: phi (from the fix's turned facet, wrapped) against phi0 + w t
+err_fix = max(abs(((r[2] - r[3] + 180.0) % 360.0) - 180.0) for r in rows)
+err_rate = max(abs(r[3] - (phi0 + math.degrees(W * r[1]))) for r in rows)
+turned = rows[-1][3] - phi0
+check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |phi - phi_rate| {err_fix:.2e} deg "
+      f"over {turned:.3f} deg turned")
+check(err_rate < 1e-8, f"phi_rate = phi0 + w t with w = vc/R = {W:.6g} rad/s: max error {err_rate:.2e} deg")
+# 2. torque once a tooth is in contact
+contact = [r for r in rows if r[8] > 0]
+check(len(contact) >= 100, f"{len(contact)} rows with contacts")
+first = contact[0][0] if contact else 0
+steady = [r for r in contact if r[0] >= first + 300]
+neg = [r for r in steady if not r[6] > 0.0]
+check(steady and not neg, f"torque > 0 (the cut resists the rotation) in all {len(steady)} rows from 300 steps "
+      f"after the first contact (step {first:.0f}); {len(neg)} not; last {rows[-1][6]:.4g} N m/mm")
+# 3. power = torque * rate
+err_p = max(abs(r[7] - r[6] * W) / max(abs(r[6] * W), 1e-30) for r in contact) if contact else 1.0
+check(err_p < 1e-9, f"spindle power = torque * rate: max relative error {err_p:.2e}")
+# 4. finite, bounded forces (the model's peak at these conditions is about 200 N/mm)
+fmax = max(math.hypot(r[4], r[5]) for r in rows)
+check(all(math.isfinite(x) for r in rows for x in r[4:8]), "forces, torque and power finite")
+check(fmax < 2000.0, f"largest |F| {fmax:.1f} N/mm < 2000")
+check(rows[-1][5] > 0.0, f"down-milling near the entry pushes the cutter in +y: Fy {rows[-1][5]:.1f} N/mm")
+# 5. the model of plot.py: at phi 90 (up-milling, ae = R: the tooth points along the feed) the force on
+# the cutter is (-F_r, F_t), the torque R F_t; nothing outside the engagement; and plot.py reads the run
+sys.path.insert(0, exdir)
+import plot  # noqa: E402
+v, K = plot.coefficients(72.0)
+ft, fr = K["Kc"] * 0.08 + K["Ke"], K["Kr"] * 0.08 + K["Kre"]
+fx, fy, tq = plot.model(90.0, R, 2, 0.08e-3, R, "up", K)
+check(v == 70.0 and abs(fx + fr) < 1e-9 and abs(fy - ft) < 1e-9 and abs(tq - R * ft) < 1e-15,
+      f"model at phi 90: Fx {fx:.3f} = -F_r {-fr:.3f}, Fy {fy:.3f} = F_t {ft:.3f} N/mm (fits at {v} m/min)")
+check(plot.model(100.0, R, 2, 0.08e-3, 0.5e-3, "up", K) == (0.0, 0.0, 0.0), "model: no force outside the engagement")
+pl = subprocess.run([sys.executable, os.path.join(exdir, "plot.py"), "-o", "milling.png"], capture_output=True, text=True)
+check(pl.returncode == 0 and "engagement of a tooth 120.0..180.0" in pl.stdout,
+      "plot.py reads milling.dat and the run's milling.params (down-milling): " + (pl.stdout + pl.stderr)[-300:])
+sys.exit(1 if fails else 0)
