@@ -1457,8 +1457,10 @@ TEST(KokkosThermal, OutputStepsCopyTheOutputColumns)
     for (const char *id : {"series", "stop"}) {
       const auto *f = sphcut::fix_by_id(l->lmp->modify, id);
       ASSERT_NE(f, nullptr) << id;
-      EXPECT_EQ(f->datamask_modify, sync ? (unsigned) EMPTY_MASK : (unsigned) ALL_MASK) << id;
-      EXPECT_EQ(f->datamask_read, (unsigned) ALL_MASK) << id;
+      // the masks' own type: unsigned int to 4Feb2025, uint64_t in 4Jul2026
+      using mask_t = decltype(f->datamask_read);
+      EXPECT_EQ(f->datamask_modify, sync ? (mask_t) EMPTY_MASK : (mask_t) ALL_MASK) << id;
+      EXPECT_EQ(f->datamask_read, (mask_t) ALL_MASK) << id;
     }
     eint[sync] = l->equal("f_sph[2]");
     tmax[sync] = l->equal("f_sph[5]");
