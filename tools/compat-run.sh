@@ -18,6 +18,7 @@
 #      (sid's Open MPI), with the KOKKOS package trimmed: see KK_KEEP below.
 #   3. every run: the plugin and the tests of RUN_TARGETS configured and built in the chroot in
 #      BUILD_DIR (the checkout is bind-mounted read-only), then `ctest -R RUN_TESTS` there.
+#      BUILD_DIR/compat-run.log has each step's time, BUILD_DIR/ctest.log the tests' output.
 # /proc, /sys, /dev/pts and /dev/shm are mounted for each chroot command in a private mount
 # namespace (unshare), and unmounted by a trap when the command ends; being private, they vanish
 # with the namespace even if this script is killed.
@@ -71,6 +72,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 
+mkdir -p "$BUILD_DIR"
+BUILD_DIR="$(cd "$BUILD_DIR" && pwd)"
 CACHE="${SPHCUT_CACHE:-$HOME/.cache/sphcut}"
 SUITE=sid
 MIRROR=http://deb.debian.org/debian
@@ -95,7 +98,8 @@ KK_KEEP="atom_vec_atomic atom_vec_bond verlet nbin npair npair_copy npair_halffu
 # bump when the recipe changes in a way the hashes below do not see
 RECIPE=1
 
-log() { printf '[compat-run %(%H:%M:%S)T] %s\n' -1 "$*"; }
+# each step and its time, also into BUILD_DIR/compat-run.log (ctest keeps no output of a test that passed)
+log() { printf '[compat-run %(%H:%M:%S)T] %s\n' -1 "$*" | tee -a "$BUILD_DIR/compat-run.log"; }
 # a step that cannot happen here: skip outside CI, fail in CI (a skipped run proves nothing)
 cannot() {
   echo "compat-run.sh: cannot $1" >&2
@@ -255,8 +259,6 @@ flock -s 8    # from here on the root filesystem is only read: other checkouts' 
 
 # ---------------------------------------------------------------- 3. the plugin and its tests
 t0=$(date +%s)
-mkdir -p "$BUILD_DIR"
-BUILD_DIR="$(cd "$BUILD_DIR" && pwd)"
 M=/mnt/sphcut     # a private mount namespace each: runs of several checkouts do not meet
 BINDS="$ROOT:$M/src:ro $BUILD_DIR:$M/build"
 log "building the plugin and its tests against LAMMPS $LAMMPS_VERSION in the chroot ($BUILD_DIR)"
@@ -272,8 +274,10 @@ fi
 grep -E "sphcut: (LAMMPS|KOKKOS)" "$BUILD_DIR/build.log" || true
 t1=$(date +%s)
 log "plugin and tests built in $(secs "$t0")"
-rc=0
+set +e
 in_chroot "$BINDS" env GTEST_FILTER="-$KNOWN_FAILURES" \
-  bash -c "cd $M/build && ctest --output-on-failure -j $JOBS -R '$RUN_TESTS'" || rc=$?
+  bash -c "cd $M/build && ctest --output-on-failure -j $JOBS -R '$RUN_TESTS'" 2>&1 | tee "$BUILD_DIR/ctest.log"
+rc=${PIPESTATUS[0]}
+set -e
 log "tests against LAMMPS $LAMMPS_VERSION: $(secs "$t1") (exit status $rc)"
 exit $rc
