@@ -53,11 +53,8 @@ RUN_TESTS='^(test_plugin|test_plugin_only|test_plugin_version_mismatch|test_plug
 #     with the plugin's message (no error at all)
 #   KokkosThermal.HeatBudgetAcrossRuns: a run split in two against one run, relative difference
 #     7e-13 against the test's 2e-13
-#   KokkosThermal.OutputsReducedOnTheDevice: compute reduce/region/kk over a region with `move`
-#     differs from LAMMPS' compute reduce/region (3.0e-4 against 1.8e-4): the device path's region
-#     displacement is wrong with 4Jul2026 (the other regions agree)
 KNOWN_FAILURES="Kokkos.RestartBetweenCpuAndKokkos:Kokkos.ExampleContinuesWithTheCpuStyles:Kokkos.WithoutKokkosEnabled"
-KNOWN_FAILURES+=":KokkosThermal.HeatBudgetAcrossRuns:KokkosThermal.OutputsReducedOnTheDevice"
+KNOWN_FAILURES+=":KokkosThermal.HeatBudgetAcrossRuns"
 RUN_TARGETS="sphcutplugin lmp_sphcut test_plugin test_plugin_mismatch sphcut_mismatch_plugin test_kernels
   test_material test_hourglass test_fmfs test_contact test_contact_corners test_thermal test_dump test_inputs
   test_impact test_kokkos test_inputs_kk test_contact_corners_kk"
