@@ -161,7 +161,11 @@ template <class DeviceType> void ComputeReduceRegionKokkos<DeviceType>::reduce_d
     k.mode = mode;
     const double lo[3] = {reg->extent_xlo, reg->extent_ylo, reg->extent_zlo};
     const double hi[3] = {reg->extent_xhi, reg->extent_yhi, reg->extent_zhi};
+#ifdef SPHCUT_REGION_EXTENT_MOVES
+    const double d[3] = {0.0, 0.0, 0.0};    // the extent has moved with the region (Region::bbox_update)
+#else
     const double d[3] = {reg->dx, reg->dy, reg->dz};
+#endif
     for (int c = 0; c < 3; c++) {
       k.lo[c] = lo[c];
       k.hi[c] = hi[c];

@@ -36,6 +36,9 @@
 //   SPHCUT_KK_VIEW_TYPES_2026 (4Jul2026): atom views t_kkfloat_1d_3_lr (x), t_kkfloat_1d_3 (v),
 //     t_kkacc_1d_3 (f), t_kkfloat_1d (masses) (double unless LAMMPS is built for single
 //     precision), not t_x_array, t_v_array, t_f_array, t_float_1d
+//   SPHCUT_REGION_EXTENT_MOVES (4Jul2026): Region::bbox_update(), called by prematch() of a
+//     moving region, moves its extent_* with it (found when the /kk styles first ran against
+//     4Jul2026, test_run_lammps_20260704: compute reduce/region/kk displaced a moved block twice)
 //   neighbour requests: NeighRequest::set_kokkos_host/device and enable_full from 24Mar2022
 //     (kokkos_list below), not its members set directly
 #if SPHCUT_LAMMPS_VERSION >= 20250204
@@ -45,6 +48,7 @@
 #define SPHCUT_KK_FORWARD_UNIFIED 1
 #define SPHCUT_KK_BUF_DOUBLE 1
 #define SPHCUT_KK_VIEW_TYPES_2026 1
+#define SPHCUT_REGION_EXTENT_MOVES 1
 #endif
 
 // A reducer's join(): Kokkos 3.4 calls it on volatile values; Kokkos 4 on plain ones, and 4.5

@@ -17,9 +17,12 @@
 # never from a header a plugin reaches (checked when this was written; were that to change,
 # the compile check fails with a missing-include error, it does not pass silently).
 #
-# Usage: tools/compat-sources.sh [--print-dir]
+# Usage: tools/compat-sources.sh [--print-dir | --lammps-tarball YYYYMMDD]
 #   prints the folder holding lammps-YYYYMMDD/src, kokkos-5.2.2/include and kokkos-4.5.1/include
 #   on its last line
+#   --lammps-tarball YYYYMMDD: instead, download the whole orig tarball of that LAMMPS version
+#     (one of LAMMPS_DEBS below) into the folder's downloads/ and print its path on the last line;
+#     the caller removes it when done (tools/compat-run.sh builds LAMMPS 4Jul2026 from it)
 # Exit status: 0 ready; 77 the sources cannot be downloaded (no apt-get, no network) and CI is
 # not set (ctest reports the test as skipped); 1 anything else, and a failed download in CI.
 # Environment: SPHCUT_CACHE (default $HOME/.cache/sphcut).
@@ -35,6 +38,12 @@ LAMMPS_DEBS=("20250204+dfsg.1-2:20250204" "20260704+dfsg-2:20260704")
 KOKKOS_DEBS=("libkokkos-dev=5.2.2-2:kokkos-5.2.2:50202:OPENMP"
              "libtrilinos-kokkos-dev=16.1.0-5+b2:kokkos-4.5.1:40501:SERIAL")
 if [ "${1:-}" = "--print-dir" ]; then echo "$DIR"; exit 0; fi
+WANT_TARBALL=""
+if [ "${1:-}" = "--lammps-tarball" ]; then
+  WANT_TARBALL="${2:?--lammps-tarball needs a version, e.g. 20260704}"
+  for e in "${LAMMPS_DEBS[@]}"; do [ "${e#*:}" = "$WANT_TARBALL" ] && WANT_DEB="${e%%:*}"; done
+  [ -n "${WANT_DEB:-}" ] || { echo "compat-sources.sh: no Debian source version known for LAMMPS $WANT_TARBALL" >&2; exit 1; }
+fi
 
 # the first existing file among the arguments (a glob), or nothing
 first() { local f; for f in "$@"; do if [ -e "$f" ]; then echo "$f"; break; fi; done; return 0; }
@@ -52,13 +61,13 @@ all_complete() {
   for e in "${LAMMPS_DEBS[@]}"; do [ -f "$DIR/lammps-${e#*:}/.complete" ] || return 1; done
   for e in "${KOKKOS_DEBS[@]}"; do IFS=: read -r _ k _ _ <<< "$e"; [ -f "$DIR/$k/.complete" ] || return 1; done
 }
-if all_complete; then echo "$DIR"; exit 0; fi
+if [ -z "$WANT_TARBALL" ] && all_complete; then echo "$DIR"; exit 0; fi
 
 command -v apt-get >/dev/null 2>&1 || cannot_download "(no apt-get on this machine)"
 mkdir -p "$DIR"
 exec 9>"$DIR/.lock"
 flock 9      # another checkout's test may be fetching: wait for it, then use what it fetched
-if all_complete; then echo "$DIR"; exit 0; fi
+if [ -z "$WANT_TARBALL" ] && all_complete; then echo "$DIR"; exit 0; fi
 
 # ---------------------------------------------------------------- private apt configuration
 APTDIR="$DIR/apt"
@@ -89,6 +98,24 @@ fi
 
 DL="$DIR/downloads"
 mkdir -p "$DL"
+# ---------------------------------------------------------------- one whole LAMMPS tarball
+if [ -n "$WANT_TARBALL" ]; then
+  upstream="${WANT_DEB%-*}"
+  tarball=$(first "$DL"/lammps_"$upstream".orig.tar.*)
+  if [ -z "$tarball" ]; then
+    log "apt-get source --download-only lammps=$WANT_DEB"
+    (cd "$DL" && apt-get "${APT_OPTS[@]}" source --download-only "lammps=$WANT_DEB") > "$DL/lammps-$WANT_TARBALL.log" 2>&1 || true
+    rm -f "$DL"/lammps_"$WANT_DEB".debian.tar.*
+    tarball=$(first "$DL"/lammps_"$upstream".orig.tar.*)
+    if [ -z "$tarball" ]; then
+      tail -5 "$DL/lammps-$WANT_TARBALL.log" >&2
+      cannot_download "lammps_$upstream.orig.tar.* (apt-get source lammps=$WANT_DEB)"
+    fi
+  fi
+  rm -rf "$APTDIR/lists" "$APTDIR/cache"
+  echo "$tarball"
+  exit 0
+fi
 # ---------------------------------------------------------------- LAMMPS headers
 for e in "${LAMMPS_DEBS[@]}"; do
   deb="${e%%:*}"; ver="${e#*:}"

@@ -121,11 +121,17 @@ TEST(ContactVelocity, NotANumberIsAnError)
     EXPECT_NEAR(l.equal("f_tool[8]"), -2.0 * 5 * 1.0e-8, 1e-20);    // the tool's displacement, x
   }
   {
-    // a constant that utils::numeric reads as inf
+    // a constant that utils::numeric reads as inf (29Sep2021: the fix refuses it); LAMMPS 4Jul2026's
+    // utils::numeric refuses it itself (when that began between the two is not known here: only
+    // these two versions run the test)
     Lammps l;
     block(l, 3, 2, 1.0e-3);
-    EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl velocity 1e999 0 0",
-                                 "Fix contact/tri-penalty: velocity 1e999 is not a finite number"));
+#if SPHCUT_LAMMPS_VERSION <= 20210929
+    const char *refused = "Fix contact/tri-penalty: velocity 1e999 is not a finite number";
+#else
+    const char *refused = "Floating point number 1e999 in input script or data file is out of range";
+#endif
+    EXPECT_TRUE(l.error_contains("fix tool all contact/tri-penalty stl plate.stl velocity 1e999 0 0", refused));
   }
 #ifndef SPHCUT_TEST_KOKKOS
   {
