@@ -1,5 +1,5 @@
 """The 3D friction stir welding example (examples/fsw-3d-aluminium, issue 55) at the coarse spacing
-(dx 0.5 mm), with a small tool (shoulder radius 6 mm, pin 2 mm x 2.7 mm, 3 mm sheet) at full rate from
+(dx 0.5 mm), with a small tool (shoulder radius 6 mm, pin 2 mm x 2.7 mm, 4 mm sheet) at full rate from
 the start (ramp 0) plunging at 0.4 m/s: the pin tip touches the plate after about 120 steps; 600
 steps in all.  Asserts the physics of the rotating tool from fsw.dat:
 - the tool turns by rate * time: the angle measured from the fix's turned facet equals w t,
@@ -20,7 +20,7 @@ RPM = 1000.0
 W = RPM * 2.0 * math.pi / 60.0
 args = [lmp, "-in", os.path.join(exdir, "in.fsw"), "-var", "exdir", exdir, "-var", "dx", "0.5e-3",
         "-var", "Rs", "6e-3", "-var", "Rpin", "2e-3", "-var", "Rtip", "2e-3", "-var", "Lpin", "2.7e-3",
-        "-var", "t", "3e-3", "-var", "Lx", "16e-3", "-var", "Ly", "16e-3", "-var", "vp", "0.4",
+        "-var", "t", "4e-3", "-var", "Lx", "16e-3", "-var", "Ly", "16e-3", "-var", "vp", "0.4",
         "-var", "ramp", "0", "-var", "rpm", repr(RPM), "-var", "steps", "600", "-log", "log.fsw"]
 run = subprocess.run(args, capture_output=True, text=True)
 out = run.stdout + run.stderr
