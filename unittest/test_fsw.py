@@ -8,7 +8,7 @@ steps in all.  Asserts the physics of the rotating tool from fsw.dat:
 - spindle power (element 54) = torque * w;
 - the axial force pushes the tool up (Fz > 0) in contact; forces finite and bounded;
 - the peak temperature rises above the initial 300 K where the pin touches and stays below the
-  melting point 855 K; no particle starts in the tool's contact radius.
+  melting point 855 K; the lumped tool warms with its share of the friction heat; no particle starts in the tool's contact radius.
 Usage: python3 test_fsw.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
 import math
 import os
@@ -67,4 +67,6 @@ check(all(r[6] > 0 for r in steady), f"the plate pushes the tool up in contact: 
 tmax = max(r[11] for r in rows)
 check(rows[0][11] <= 300.0 + 1e-9 and tmax > 301.0, f"peak temperature rises from 300 K to {tmax:.2f} K")
 check(tmax < 855.0, f"peak temperature {tmax:.2f} K below the melting point 855 K")
+check(rows[-1][12] > 300.0 and all(b[12] >= a[12] for a, b in zip(rows, rows[1:])),
+      f"the lumped tool takes its share of the friction heat: {rows[-1][12]:.6f} K, never falling")
 sys.exit(1 if fails else 0)
