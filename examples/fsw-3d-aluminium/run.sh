@@ -18,4 +18,4 @@ small=""
 $LMP $kk -in "$here/in.fsw" -var exdir "$here" -var dx "$DX" -var dumpevery 500 $small $ARGS \
   -log log.fsw | awk '/^fsw:|^tool.py/{print} /^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time|WARNING|ERROR/{print}'
 PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
-$PY "$here/plot.py" && echo "plot: fsw.png"
+$PY "$here/plot.py" && $PY "$here/picture.py" --dx "$DX" && echo "plots: fsw.png picture.png"
