@@ -1,0 +1,72 @@
+"""The 3D friction stir welding example (examples/fsw-3d-aluminium, issue 55) at the coarse spacing
+(dx 0.5 mm), with a small tool (shoulder radius 6 mm, pin 2 mm x 2.7 mm, 4 mm sheet) at full rate from
+the start (ramp 0) plunging at 0.4 m/s: the pin tip touches the plate after about 120 steps; 600
+steps in all.  Asserts the physics of the rotating tool from fsw.dat:
+- the tool turns by rate * time: the angle measured from the fix's turned facet equals w t,
+  w = 2 pi rpm / 60, to 1e-8 degrees;
+- the spindle torque (element 53) is > 0 once the tool is in contact: it resists the rotation;
+- spindle power (element 54) = torque * w;
+- the axial force pushes the tool up (Fz > 0) in contact; forces finite and bounded;
+- the peak temperature rises above the initial 300 K where the pin touches and stays below the
+  melting point 855 K; the lumped tool warms with its share of the friction heat; no particle starts in the tool's contact radius.
+Usage: python3 test_fsw.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
+import math
+import os
+import subprocess
+import sys
+
+lmp, exdir = sys.argv[1], sys.argv[2]
+RPM = 1000.0
+W = RPM * 2.0 * math.pi / 60.0
+args = [lmp, "-in", os.path.join(exdir, "in.fsw"), "-var", "exdir", exdir, "-var", "dx", "0.5e-3",
+        "-var", "Rs", "6e-3", "-var", "Rpin", "2e-3", "-var", "Rtip", "2e-3", "-var", "Lpin", "2.7e-3",
+        "-var", "t", "4e-3", "-var", "Lx", "16e-3", "-var", "Ly", "16e-3", "-var", "vp", "0.4",
+        "-var", "ramp", "0", "-var", "rpm", repr(RPM), "-var", "steps", "600", "-log", "log.fsw"]
+run = subprocess.run(args, capture_output=True, text=True)
+out = run.stdout + run.stderr
+if run.returncode != 0:
+    sys.exit("FAILED: LAMMPS run failed\n" + out[-4000:])
+fails = []
+
+
+def check(cond, what):
+    print(("ok    " if cond else "FAIL  ") + what)
+    if not cond:
+        fails.append(what)
+
+
+check("start within the contact radius" not in out, "no particle starts within the tool's contact radius")
+rows = []
+with open("fsw.dat") as f:
+    for line in f:
+        if not line.startswith("#") and line.strip():
+            rows.append([float(x) for x in line.split()])
+rows = [r for r in rows if r[0] > 0]                 # step 0: the tool fields are not set yet
+check(len(rows) >= 59, f"{len(rows)} rows of fsw.dat")
+# columns: step time phase rate turned turned_rate Fz Fx torque power contacts Tmax Ttool
+err_fix = max(abs(r[4] - r[5]) for r in rows)
+err_rate = max(abs(r[5] - math.degrees(W * r[1])) for r in rows)
+check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |turned - w t| {err_fix:.2e} deg over "
+      f"{rows[-1][5]:.3f} deg")
+check(err_rate < 1e-8 and all(abs(r[3] - W) < 1e-9 * W for r in rows),
+      f"rate {W:.6g} rad/s throughout, turned_rate = w t: max error {err_rate:.2e} deg")
+contact = [r for r in rows if r[10] > 0]
+check(len(contact) >= 20, f"{len(contact)} rows with contacts")
+first = contact[0][0] if contact else 0
+steady = [r for r in contact if r[0] >= first + 100]
+neg = [r for r in steady if not r[8] > 0.0]
+check(steady and not neg, f"torque > 0 (resists the rotation) in all {len(steady)} rows from 100 steps after "
+      f"the first contact (step {first:.0f}); {len(neg)} not; last {rows[-1][8]:.4g} N m")
+err_p = max(abs(r[9] - r[8] * W) / max(abs(r[8] * W), 1e-30) for r in contact) if contact else 1.0
+check(err_p < 1e-9, f"spindle power = torque * rate: max relative error {err_p:.2e}")
+check(all(math.isfinite(x) for r in rows for x in r[6:10]), "forces, torque and power finite")
+fzmax = max(abs(r[6]) for r in rows)
+fxmax = max(abs(r[7]) for r in rows)
+check(fzmax < 1e5 and fxmax < 1e5, f"largest |Fz| {fzmax:.1f} N, |Fx| {fxmax:.1f} N < 1e5")
+check(all(r[6] > 0 for r in steady), f"the plate pushes the tool up in contact: last Fz {rows[-1][6]:.1f} N")
+tmax = max(r[11] for r in rows)
+check(rows[0][11] <= 300.0 + 1e-9 and tmax > 301.0, f"peak temperature rises from 300 K to {tmax:.2f} K")
+check(tmax < 855.0, f"peak temperature {tmax:.2f} K below the melting point 855 K")
+check(rows[-1][12] > 300.0 and all(b[12] >= a[12] for a, b in zip(rows, rows[1:])),
+      f"the lumped tool takes its share of the friction heat: {rows[-1][12]:.6f} K, never falling")
+sys.exit(1 if fails else 0)
