@@ -12,8 +12,9 @@ steps in all.  Asserts the physics of the rotating tool from fsw.dat:
 Usage: python3 test_fsw.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
 import math
 import os
-import subprocess
 import sys
+
+from example_run import check, fails, rows_after_step0, run  # this folder
 
 lmp, exdir = sys.argv[1], sys.argv[2]
 RPM = 1000.0
@@ -22,26 +23,11 @@ args = [lmp, "-in", os.path.join(exdir, "in.fsw"), "-var", "exdir", exdir, "-var
         "-var", "Rs", "6e-3", "-var", "Rpin", "2e-3", "-var", "Rtip", "2e-3", "-var", "Lpin", "2.7e-3",
         "-var", "t", "4e-3", "-var", "Lx", "16e-3", "-var", "Ly", "16e-3", "-var", "vp", "0.4",
         "-var", "ramp", "0", "-var", "rpm", repr(RPM), "-var", "steps", "600", "-log", "log.fsw"]
-run = subprocess.run(args, capture_output=True, text=True)
-out = run.stdout + run.stderr
-if run.returncode != 0:
-    sys.exit("FAILED: LAMMPS run failed\n" + out[-4000:])
-fails = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        fails.append(what)
+out = run(args)
 
 
 check("start within the contact radius" not in out, "no particle starts within the tool's contact radius")
-rows = []
-with open("fsw.dat") as f:
-    for line in f:
-        if not line.startswith("#") and line.strip():
-            rows.append([float(x) for x in line.split()])
-rows = [r for r in rows if r[0] > 0]                 # step 0: the tool fields are not set yet
+rows = rows_after_step0("fsw.dat")
 check(len(rows) >= 59, f"{len(rows)} rows of fsw.dat")
 # columns: step time phase rate turned turned_rate Fz Fx torque power contacts Tmax Ttool
 err_fix = max(abs(r[4] - r[5]) for r in rows)

@@ -15,32 +15,19 @@ import os
 import subprocess
 import sys
 
+from example_run import check, fails, rows_after_step0, run  # this folder
+
 lmp, exdir = sys.argv[1], sys.argv[2]
 R, VC = 1.0e-3, 70.0
 W = VC / 60.0 / R
 args = [lmp, "-in", os.path.join(exdir, "in.milling"), "-var", "exdir", exdir, "-var", "dx", "25e-6",
         "-var", "mode", "down", "-var", "lead", "1", "-var", "steps", "3000", "-var", "R", repr(R),
         "-var", "vc", repr(VC), "-log", "log.milling"]
-run = subprocess.run(args, capture_output=True, text=True)
-out = run.stdout + run.stderr
-if run.returncode != 0:
-    sys.exit("FAILED: LAMMPS run failed\n" + out[-4000:])
-fails = []
-
-
-def check(cond, what):
-    print(("ok    " if cond else "FAIL  ") + what)
-    if not cond:
-        fails.append(what)
+out = run(args)
 
 
 check("start within the contact radius" not in out, "no particle starts within the tool's contact radius")
-rows = []
-with open("milling.dat") as f:
-    for line in f:
-        if not line.startswith("#") and line.strip():
-            rows.append([float(x) for x in line.split()])
-rows = [r for r in rows if r[0] > 0]                 # step 0: the tool fields are not set yet
+rows = rows_after_step0("milling.dat")
 check(len(rows) >= 290, f"{len(rows)} rows of milling.dat")
 phi0 = 180.0 - math.degrees(math.acos(1.0 - 0.5e-3 / R)) - 1.0
 # 1. the pose: phi (from the fix's turned facet, wrapped) against phi0 + w t

@@ -18,7 +18,11 @@ radius Renv < R (--info writes it, and the angle of the centroid of the first si
 LAMMPS variables)."""
 import argparse
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from stl_ascii import facet  # noqa: E402
 
 
 def fillet(T, ur, uf, rn, nseg):
@@ -117,17 +121,6 @@ def ear_clip(p):
             sys.exit("cutter.py: no ear found (self-intersecting outline?)")
     tris.append(tuple(idx))
     return tris
-
-
-def facet(out, a, b, c):
-    u = [b[k] - a[k] for k in range(3)]
-    v = [c[k] - a[k] for k in range(3)]
-    n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
-    ln = math.sqrt(sum(x * x for x in n)) or 1.0
-    out.write("  facet normal %.9e %.9e %.9e\n    outer loop\n" % tuple(x / ln for x in n))
-    for q in (a, b, c):
-        out.write("      vertex %.17g %.17g %.17g\n" % tuple(q))
-    out.write("    endloop\n  endfacet\n")
 
 
 def main():
