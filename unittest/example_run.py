@@ -1,6 +1,7 @@
 """The part test_milling.py and test_fsw.py share: run an example's LAMMPS input (stop with its
-output's end if LAMMPS fails), the check() that prints and counts failures, and the example's output
-file as rows of numbers without step 0 (the fix's tool fields are not set at step 0)."""
+output's end if LAMMPS fails), the check() that prints and counts failures, the example's output
+file as rows of numbers without step 0 (the fix's tool fields are not set at step 0), and the checks
+of a spinning tool's torque and spindle power."""
 import subprocess
 import sys
 
@@ -28,3 +29,20 @@ def rows_after_step0(path):
             if not line.startswith("#") and line.strip():
                 rows.append([float(x) for x in line.split()])
     return [r for r in rows if r[0] > 0]
+
+
+def check_spindle(rows, w, col_contacts, col_torque, col_power, min_contact, settle, unit):
+    """the rows with contacts (at least min_contact); from settle steps after the first contact the
+    torque (fix contact/tri-penalty element 53, on the particles) > 0, i.e. the cut's torque on the
+    tool resists the rotation; spindle power (element 54) = torque * w to 1e-9.  The contact rows"""
+    contact = [r for r in rows if r[col_contacts] > 0]
+    check(len(contact) >= min_contact, f"{len(contact)} rows with contacts")
+    first = contact[0][0] if contact else 0
+    steady = [r for r in contact if r[0] >= first + settle]
+    neg = [r for r in steady if not r[col_torque] > 0.0]
+    check(steady and not neg, f"torque > 0 (the cut resists the rotation) in all {len(steady)} rows from {settle} "
+          f"steps after the first contact (step {first:.0f}); {len(neg)} not; last {rows[-1][col_torque]:.4g} {unit}")
+    err_p = max(abs(r[col_power] - r[col_torque] * w) / max(abs(r[col_torque] * w), 1e-30)
+                for r in contact) if contact else 1.0
+    check(err_p < 1e-9, f"spindle power = torque * rate: max relative error {err_p:.2e}")
+    return contact

@@ -14,7 +14,7 @@ import math
 import os
 import sys
 
-from example_run import check, fails, rows_after_step0, run  # this folder
+from example_run import check, check_spindle, fails, rows_after_step0, run  # this folder
 
 lmp, exdir = sys.argv[1], sys.argv[2]
 RPM = 1000.0
@@ -36,15 +36,9 @@ check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |turned - w t|
       f"{rows[-1][5]:.3f} deg")
 check(err_rate < 1e-8 and all(abs(r[3] - W) < 1e-9 * W for r in rows),
       f"rate {W:.6g} rad/s throughout, turned_rate = w t: max error {err_rate:.2e} deg")
-contact = [r for r in rows if r[10] > 0]
-check(len(contact) >= 20, f"{len(contact)} rows with contacts")
+contact = check_spindle(rows, W, col_contacts=10, col_torque=8, col_power=9, min_contact=20, settle=100, unit="N m")
 first = contact[0][0] if contact else 0
 steady = [r for r in contact if r[0] >= first + 100]
-neg = [r for r in steady if not r[8] > 0.0]
-check(steady and not neg, f"torque > 0 (resists the rotation) in all {len(steady)} rows from 100 steps after "
-      f"the first contact (step {first:.0f}); {len(neg)} not; last {rows[-1][8]:.4g} N m")
-err_p = max(abs(r[9] - r[8] * W) / max(abs(r[8] * W), 1e-30) for r in contact) if contact else 1.0
-check(err_p < 1e-9, f"spindle power = torque * rate: max relative error {err_p:.2e}")
 check(all(math.isfinite(x) for r in rows for x in r[6:10]), "forces, torque and power finite")
 fzmax = max(abs(r[6]) for r in rows)
 fxmax = max(abs(r[7]) for r in rows)

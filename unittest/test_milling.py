@@ -15,7 +15,7 @@ import os
 import subprocess
 import sys
 
-from example_run import check, fails, rows_after_step0, run  # this folder
+from example_run import check, check_spindle, fails, rows_after_step0, run  # this folder
 
 lmp, exdir = sys.argv[1], sys.argv[2]
 R, VC = 1.0e-3, 70.0
@@ -38,16 +38,9 @@ check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |phi - phi_rat
       f"over {turned:.3f} deg turned")
 check(err_rate < 1e-8, f"phi_rate = phi0 + w t with w = vc/R = {W:.6g} rad/s: max error {err_rate:.2e} deg")
 # 2. torque once a tooth is in contact
-contact = [r for r in rows if r[8] > 0]
-check(len(contact) >= 100, f"{len(contact)} rows with contacts")
-first = contact[0][0] if contact else 0
-steady = [r for r in contact if r[0] >= first + 300]
-neg = [r for r in steady if not r[6] > 0.0]
-check(steady and not neg, f"torque > 0 (the cut resists the rotation) in all {len(steady)} rows from 300 steps "
-      f"after the first contact (step {first:.0f}); {len(neg)} not; last {rows[-1][6]:.4g} N m/mm")
 # 3. power = torque * rate
-err_p = max(abs(r[7] - r[6] * W) / max(abs(r[6] * W), 1e-30) for r in contact) if contact else 1.0
-check(err_p < 1e-9, f"spindle power = torque * rate: max relative error {err_p:.2e}")
+check_spindle(rows, W, col_contacts=8, col_torque=6, col_power=7, min_contact=100, settle=300,
+                        unit="N m/mm")
 # 4. finite, bounded forces (the model's peak at these conditions is about 200 N/mm)
 fmax = max(math.hypot(r[4], r[5]) for r in rows)
 check(all(math.isfinite(x) for r in rows for x in r[4:8]), "forces, torque and power finite")
