@@ -37,10 +37,8 @@ turned = rows[-1][3] - phi0
 check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |phi - phi_rate| {err_fix:.2e} deg "
       f"over {turned:.3f} deg turned")
 check(err_rate < 1e-8, f"phi_rate = phi0 + w t with w = vc/R = {W:.6g} rad/s: max error {err_rate:.2e} deg")
-# 2. torque once a tooth is in contact
-# 3. power = torque * rate
-check_spindle(rows, W, col_contacts=8, col_torque=6, col_power=7, min_contact=100, settle=300,
-                        unit="N m/mm")
+# 2. torque once a tooth is in contact, 3. power = torque * rate
+check_spindle(rows, W, col_contacts=8, col_torque=6, col_power=7, min_contact=100, settle=300, unit="N m/mm")
 # 4. finite, bounded forces (the model's peak at these conditions is about 200 N/mm)
 fmax = max(math.hypot(r[4], r[5]) for r in rows)
 check(all(math.isfinite(x) for r in rows for x in r[4:8]), "forces, torque and power finite")
