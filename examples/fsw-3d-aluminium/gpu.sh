@@ -7,12 +7,15 @@
 # of wall time for the run loop (default 300: timer timeout, checked every 100 steps), STEPS (> 0:
 # stop there as well), KK the accelerator switches (default one GPU; "-k on t 2 -sf kk -pk kokkos
 # neigh full newton off" runs the same styles on 2 host threads, for a check), ARGS more -var
-# settings.  Writes fsw.dat, log.fsw, dump.fsw every DUMP steps (default 5000), the last frame to
-# dump.final, and prints the particle count, the steps, the loop's wall time and particle-steps/s.
+# settings.  Writes fsw.dat, log.fsw, dump.fsw every DUMP steps (default 0: none; a frame of 540,000
+# particles is about 30 MB), the last frame to dump.final (id type x y z temperature plastic_strain vonmises, 5 digits) and then, where matplotlib is,
+# fsw.png and picture.png (temperature on the top surface and in the section across the joint) from
+# it, and gzips it to dump.final.gz; prints the particle count, the steps, the loop's wall time and
+# particle-steps/s.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 : "${LMP:?source build-cuda/env.sh (or build/env.sh) first}"
-DX="${DX:-0.25e-3}"; WALL="${WALL:-300}"; STEPS="${STEPS:-0}"; DUMP="${DUMP:-5000}"; ARGS="${ARGS:-}"
+DX="${DX:-0.25e-3}"; WALL="${WALL:-300}"; STEPS="${STEPS:-0}"; DUMP="${DUMP:-0}"; ARGS="${ARGS:-}"
 KK="${KK:--k on g 1 -sf kk -pk kokkos neigh full newton off}"
 t0=$(date +%s.%N)
 # shellcheck disable=SC2086
@@ -28,4 +31,6 @@ awk -v t0="$t0" -v t1="$t1" '/^Loop time of/ && !done {
 PY=python3; /usr/bin/python3 -c "import matplotlib" 2>/dev/null && PY=/usr/bin/python3
 if $PY -c "import matplotlib" 2>/dev/null; then
   $PY "$here/plot.py" && echo "plot: fsw.png"
+  $PY "$here/picture.py" -i dump.final --dx "$DX" && echo "picture: picture.png"
 fi
+gzip -f dump.final && ls -l dump.final.gz
