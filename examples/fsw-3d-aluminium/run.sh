@@ -4,7 +4,7 @@
 # SMALL=1 (default on the CPU) the thin-sheet tool (shoulder R 6 mm, pin R 2 mm x 2.7 mm, 4 mm sheet,
 # plunge 0.4 m/s, 1 ms dwell, 1 mm traverse at 0.2 m/s: about 2.5 minutes on one core),
 # SMALL=0 the full tool of the input's defaults, GPU=1 the /kk styles on one GPU, ARGS more -var
-# settings (e.g. "-var rpm 1500 -var steps 1000").
+# settings (e.g. "-var rpm 1500 -var steps 1000").  gpu.sh: the full tool on one GPU, bounded in wall time.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 : "${LMP:?source build/env.sh first}"
