@@ -43,7 +43,8 @@ from the best with these runs and measurements; it is not a confidence interval 
 
 Output (OUT, default calibration-out): calibration.json (fitted values, uncertainty, objective and
 noise before and after, every evaluation), fitted.args (`--set ... --param NAME=VALUE ...` for
-validate.py), fitted.var (`-var NAME VALUE` lines for in.cutting), table.md and table.csv (simulated
+validate.py), fitted.var (`-var NAME VALUE` lines for in.cutting), fitted.lmp (the same as index
+variables with the provenance as comments, for in.cutting's -var params), table.md and table.csv (simulated
 against measured before and after on the fit and held-out conditions) and validate.py's reports
 (table, plots) of the start set in OUT/before and of the fitted set in OUT/after.  doc/calibration.md is the user's guide.
 """
@@ -160,7 +161,7 @@ def objective(runs, db, weights):
     """J, its noise from the runs' standard errors, its noise with the measured scatter too, the
     number of terms; None where a run is missing or failed"""
     tot = wsum = var_sim = var_all = 0.0
-    n = 0
+    n = se_unknown = 0
     terms = []
     for r in runs:
         got = db.get(r["key"])
@@ -173,7 +174,12 @@ def objective(runs, db, weights):
                 continue
             e = sim / meas - 1.0
             terms.append((f"{c['vc']:g}/{c['h']:g}/{q}", w, e))
-            vs = ((res.get("se_" + q) or 0.0) / meas) ** 2
+            # a steady mean of one block (a chip thickness from one frame) has no standard error
+            # (NaN): its term adds no simulation noise, counted in se_unknown
+            se = res.get("se_" + q)
+            if se is None or not math.isfinite(se):
+                se, se_unknown = 0.0, se_unknown + 1
+            vs = (se / meas) ** 2
             vm = (sim * (c.get("s" + q) or 0.0) / meas ** 2) ** 2
             tot += w * e * e
             wsum += w
@@ -184,7 +190,7 @@ def objective(runs, db, weights):
         return None
     # the residuals whose squares add up to J (the least-squares method's vector)
     return {"J": tot / wsum, "noise_sim": math.sqrt(var_sim) / wsum, "noise": math.sqrt(var_all) / wsum,
-            "terms": n, "resid": {k: math.sqrt(w / wsum) * e for k, w, e in terms}}
+            "terms": n, "se_unknown": se_unknown, "resid": {k: math.sqrt(w / wsum) * e for k, w, e in terms}}
 
 
 class Calibration:
@@ -243,7 +249,7 @@ class Calibration:
                 ev = {"params": {k: p[k] for k, _, _ in self.fit}, "x": self.norm(p),
                       "J": o["J"] if o else FAILED_J, "noise_sim": o["noise_sim"] if o else None,
                       "noise": o["noise"] if o else None, "failed": o is None,
-                      "resid": o["resid"] if o else None}
+                      "resid": o["resid"] if o else None, "se_unknown": o["se_unknown"] if o else 0}
                 self.cache[self.tkey(p)] = ev
                 self.evals.append(ev)
                 self.progress(ev)
@@ -265,6 +271,8 @@ class Calibration:
         eta = f"at most about {left * per_sim / self.args.jobs:.0f} s left" if per_sim else "time left unknown"
         vals = " ".join(f"{k} {v:g}" for k, v in ev["params"].items())
         j = "FAILED" if ev["failed"] else f"J {ev['J']:.4g} +- {ev['noise_sim']:.2g}"
+        if ev.get("se_unknown"):
+            j += f" ({ev['se_unknown']} terms without a standard error)"
         print(f"calibrate: evaluation {len(self.evals)}: {vals}: {j}; best J {b['J']:.4g} "
               f"({' '.join(f'{k} {v:g}' for k, v in b['params'].items())}); simulations {self.sims_run} run, "
               f"{self.sims_reused} reused, {self.sims_used}/{self.args.budget} of the budget; {eta}"
@@ -468,6 +476,35 @@ def err(sim, meas):
     return None if sim is None or not meas else 100 * (sim / meas - 1)
 
 
+def fitted_input(args, fit, start, fitted, unc, ob, fit_conds, held, stop):
+    """the fitted set as LAMMPS index variables, for in.cutting's -var params FILE: index variables
+    defined first keep their value (in.cutting's own defaults and a later -var do not change them;
+    a -var on the command line still wins), and comment lines saying where the set comes from"""
+    def conds(cs):
+        return ", ".join(f"{c['vc']:g}/{c['h']:g}" for c in cs) or "none"
+
+    def obj(name, part):
+        o = ob[name][part]
+        return f"{o['J']:.4g} +- {o['noise_sim']:.2g}" if o else "-"
+    lines = [f"# {', '.join(k for k, _, _ in fit)} fitted by bench/validation/calibrate.py (sphcut) to "
+             f"{os.path.basename(args.data)}",
+             f"# start set {args.set}" + "".join(f", {kv}" for kv in args.param or []) + f"; weights {args.weights}"
+             + ("" if args.chip else " (no chip)") + f"; {stop}",
+             f"# fitted on {len(fit_conds)} conditions (vc m/min / h mm): {conds(fit_conds)}",
+             f"# held out {len(held)}: {conds(held)}",
+             f"# objective (mean squared relative error) start -> fitted: fit {obj('start', 'fit')} -> "
+             f"{obj('fitted', 'fit')}; held out {obj('start', 'holdout')} -> {obj('fitted', 'holdout')}"]
+    for k, lo, hi in fit:
+        lines.append(f"# {k}: {fitted[k]:g} +- {unc[k][0]:.2g} (bounds {lo:g} - {hi:g}; start {start[k]:g}; "
+                     f"objective within its noise over {unc[k][1]:.4g} - {unc[k][2]:.4g})")
+    lines += [f"# the runs' resolution (validate.py): {args.per_h:g} spacings per h, {args.per_rn:g} per edge radius, "
+              f"cut {args.cut_h:g} h or {args.cut_rn:g} rn, steady from {args.steady_from:g} of the cut, thermal "
+              f"{args.thermal}; the set is fitted at that resolution",
+              "# command: python3 bench/validation/calibrate.py " + " ".join(sys.argv[1:])]
+    lines += [f"variable     {k:<9} index {fitted[k]!r}" for k in sorted(fitted)]
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -654,6 +691,9 @@ def main(argv=None):
         f.write(f"--set {args.set} " + " ".join(f"--param {k}={fitted[k]!r}" for k in sorted(fitted)) + "\n")
     with open(os.path.join(args.out, "fitted.var"), "w") as f:
         f.write("".join(f"-var {k} {fitted[k]!r}\n" for k in sorted(fitted)))
+    # the set as a LAMMPS input for in.cutting (-var params FILE), with where it comes from
+    with open(os.path.join(args.out, "fitted.lmp"), "w") as f:
+        f.write(fitted_input(args, fit, start, fitted, unc, ob, fit_conds, held, cal.stop))
     with open(os.path.join(args.out, "calibration.json"), "w") as f:
         json.dump({"data": args.data, "set": args.set, "param": args.param, "weights": weights,
                    "fit": [{"name": k, "lo": lo, "hi": hi, "start": start[k], "value": fitted[k],
@@ -679,7 +719,7 @@ def main(argv=None):
         except Exception as e:      # the calibration stands; the report of validate.py is extra
             print(f"calibrate: no report in {rep.out}: {type(e).__name__}: {e}")
     print(f"calibrate: {os.path.join(args.out, 'fitted.args')} (for validate.py), fitted.var (-var lines for "
-          f"in.cutting), calibration.json, table.md", flush=True)
+          f"in.cutting), fitted.lmp (-var params FILE of in.cutting), calibration.json, table.md", flush=True)
     return 0
 
 
