@@ -13,6 +13,7 @@
   none; the fitted set's file (fitted.args) given to validate.py finds its runs stored.
 Usage: python3 test_calibration.py LMP SOURCE_DIR   (Debian's python3: numpy and scipy)"""
 import json
+import re
 import os
 import shutil
 import subprocess
@@ -187,6 +188,21 @@ fa = open(os.path.join(out, "fitted.args")).read().split()
 rc, txt = call(runner, "run", "--data", synth, "--out", os.path.join(work, "check"), "--db",
                os.path.join(out, "runs.sqlite"), "--lmp", "false", *coarse, *fa)
 check(rc == 0 and "2 stored" in txt and "0 to run" in txt, f"validate.py {' '.join(fa[-1:])}: both runs stored")
+
+# fitted.lmp: the fitted values as in.cutting's index variables (-var params FILE), the provenance as comments
+fl = open(os.path.join(out, "fitted.lmp")).read()
+lv = {m.group(1): float(m.group(2)) for m in re.finditer(r"^variable\s+(\w+)\s+index\s+(\S+)$", fl, re.M)}
+check(abs(lv.get("mu", -1) - fit["value"]) <= 1e-12 * abs(fit["value"]) and "# fitted on 2 conditions" in fl
+      and "# command: python3 bench/validation/calibrate.py" in fl,
+      f"fitted.lmp: mu {lv.get('mu')} as fitted ({fit['value']}), the conditions and the command as comments")
+# the shipped Ti6Al4V set: the example's file and validate.py's --set calibrated hold the same values
+sys.path.insert(0, os.path.join(root, "bench", "validation"))
+import validate  # noqa: E402
+ship = open(os.path.join(root, "examples", "cutting-2d-ti6al4v", "ti6al4v-calibrated.lmp")).read()
+sv = {m.group(1): float(m.group(2)) for m in re.finditer(r"^variable\s+(\w+)\s+index\s+(\S+)$", ship, re.M)}
+cal = validate.PARAM_SETS["calibrated"]
+check(set(sv) == set(cal) and all(abs(sv[k] - cal[k]) <= 1e-12 * abs(cal[k]) for k in cal),
+      f"ti6al4v-calibrated.lmp {sv} equals validate.py's --set calibrated {cal}")
 
 print(f"test time {time.time() - t_start:.0f} s")
 if fails:

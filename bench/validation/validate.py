@@ -61,6 +61,10 @@ PARAM_SETS = {
     # CIRP J. Manuf. Sci. Technol. (2026), doi:10.1016/j.cirpj.2025.11.012
     "klippel2026": {"jcA": 852.1e6, "jcB": 338.9e6, "jcC": 0.02754, "jcn": 0.148, "jcm": 0.5961,
                     "Tmelt": 1836.0, "mu": 0.35, "hdx": 1.5},
+    # seed003 with mu, jcA and jcm fitted by calibrate.py to 8 of this dataset's conditions
+    # (examples/cutting-2d-ti6al4v/ti6al4v-calibrated.lmp says how; doc/calibration.md its errors)
+    "calibrated": {"jcA": 921.4e6, "jcB": 331e6, "jcC": 0.01, "jcn": 0.35, "jcm": 0.8437, "Tmelt": 1878.0,
+                   "mu": 0.4465, "hdx": 1.5},
 }
 # numeric -var inputs a parameter set or --param may set (in.cutting's names)
 KNOWN_PARAMS = {"jcA", "jcB", "jcC", "jcn", "jcm", "Tmelt", "mu", "eta", "pfac", "dfac", "sfac",
