@@ -105,10 +105,9 @@ template <class DeviceType> struct ContactKernel {
   typename AT::t_double_2d qtw;       // tool heat per kernel weight, the particle's position
   typename AT::t_double_2d fout;    // per-atom output: force (3), F_N, |F_T|, feature
   Kokkos::View<const sphcut::Material *, mem> mat;
-  Kokkos::View<const double *, mem> h, dp, hij, mut, muv;
+  Kokkos::View<const double *, mem> h, dp, hij;
   ContactMaskBits bits;
-  int use_rmass, nmu, ntp, kernel;
-  double mu0;
+  int use_rmass, ntp, kernel;
   Kokkos::View<double *, mem> sums;    // NRED sums of this step, the NACCUM accumulators, the counters
   typename AT::t_double_1d dtlim;      // the spring's dt limit: this fix's slot of fix sph/jc-thermal/kk
   double dtscale;                      // dtfac * cfl (FixContactTriPenalty::dt_limit)
@@ -167,10 +166,6 @@ template <class DeviceType> struct ContactKernel {
     KOKKOS_INLINE_FUNCTION double spacing() const { return k.dp(it); }
     KOKKOS_INLINE_FUNCTION double E() const { return k.mat(it).E; }
     KOKKOS_INLINE_FUNCTION double mass() const { return k.use_rmass ? k.rmass(i) : k.mass(it); }
-    KOKKOS_INLINE_FUNCTION double mu(double temp) const
-    {
-      return k.nmu > 0 ? sphcut::mu_table(&k.mut(0), &k.muv(0), k.nmu, temp) : k.mu0;
-    }
     KOKKOS_INLINE_FUNCTION double *state() const { return &k.state(i, 0); }
     KOKKOS_INLINE_FUNCTION double *output() const { return &k.fout(i, 0); }
     // the reduction holds both halves of the step's work and dissipation in one sum each
@@ -382,7 +377,7 @@ template <class DeviceType>
 FixContactTriPenaltyKokkos<DeviceType>::FixContactTriPenaltyKokkos(LAMMPS *lmp, int narg, char **arg) :
     FixContactTriPenalty(sphcut::require_kokkos(lmp, "Fix contact/tri-penalty/kk"), narg, arg), fixkk(nullptr)
 {
-  if (mustyle == MU_VARIABLE)
+  if (friction.host_only())
     error->all(FLERR, "Fix contact/tri-penalty/kk: mu v_{} (a LAMMPS variable per particle) cannot be "
                "evaluated on the device; give mu as a number or a table (mu table T1 mu1 T2 mu2 ...), or "
                "run without /kk", mu_var);
@@ -454,7 +449,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::upload(
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "contact:h");
   d_dp = sphcut::to_device<double, DeviceType>(dp.data(), n, "contact:dp");
   d_hij = sphcut::to_device<double, DeviceType>(hij.data(), n * n, "contact:hij");
-  const int nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
+  const int nmu = (int) mu_t.size();    // the friction law's table mu(T), if any
   std::vector<double> t(mu_t), m(mu_v);
   t.resize(nmu + 1, 0.0);
   m.resize(nmu + 1, 0.0);
@@ -513,6 +508,8 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.step.share.start = d_share_start.data();
   k.step.share.elem = d_share_elem.data();
   k.step.inv_area = d_inv_area.data();
+  k.step.base.friction.mu_t = d_mut.data();    // (the friction law's table mu(T), used if it has one)
+  k.step.base.friction.mu_v = d_muv.data();
   k.x = atomKK->k_x.view<DeviceType>();
   k.v = atomKK->k_v.view<DeviceType>();
   k.f = atomKK->k_f.view<DeviceType>();
@@ -527,14 +524,10 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::post_fo
   k.h = d_h;
   k.dp = d_dp;
   k.hij = d_hij;
-  k.mut = d_mut;
-  k.muv = d_muv;
   k.bits = mask_bits();
   k.use_rmass = atom->rmass_flag;
-  k.nmu = mustyle == MU_TABLE ? (int) mu_t.size() : 0;
   k.ntp = atom->ntypes + 1;
   k.kernel = model->kernel();
-  k.mu0 = mu0;
   if ((int) d_sums.extent(0) != NSUMS) {
     d_sums = Kokkos::View<double *, mem>("contact:sums", NSUMS);    // zeroed (the counters too)
     h_sums = Kokkos::create_mirror_view(d_sums);

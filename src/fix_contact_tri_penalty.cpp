@@ -49,14 +49,15 @@ using sphcut::Material;
 /* ---------------------------------------------------------------------- */
 
 FixContactTriPenalty::FixContactTriPenalty(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), nvert(3), etool(0.0), pfac(1.0), dfac(0.1), sfac(1.2), vreg(0.0), vreg_set(0),
-    mustyle(MU_CONST), mu0(0.0), mu_ivar(-1), mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
+    Fix(lmp, narg, arg), nvert(3), etool(0.0), pfac(1.0), dfac(0.1), sfac(1.2), vreg_set(0), mu_ivar(-1),
+    mu_itvar(-1), eta(1.0), split(1.0), split_auto(0),
     toolbit(0), heat(nullptr), tool_cp(0.0), tool_temp(0.0), write_every(0), fric_power(0.0),
     work_rate(0.0), q_work(0.0), q_tool(0.0), q_tool_lost(0.0), q_work_tool(0.0), maxpen(0.0),
     ncontact(0), tool_work(0.0), diss_rate(0.0), contact_diss(0.0), dt_last(0.0), dt_crit(1.0e300), fcontact(nullptr), nmax_out(0), qbuf(nullptr), nmax_buf(0),
     list(nullptr), fix(nullptr), model(nullptr)
 {
   for (int k = 0; k < 3; k++) disp[k] = vtool[k] = vconst[k] = ftool[k] = 0.0;
+  friction.kind = sphcut::FrictionLaw::STATIC;    // the default: friction static, mu 0
   for (int f = 0; f < NFEAT; f++)
     for (int c = 0; c < NDECOMP; c++) decomp[f][c] = 0.0;
   ToolSpec spec;
@@ -241,7 +242,7 @@ int FixContactTriPenalty::parse_contact_keyword(const std::string &kw, int iarg,
     else if (kw == "dfac") dfac = v;
     else if (kw == "sfac") sfac = v;
     else if (kw == "vreg") {
-      vreg = v;
+      friction.v_reg = v;
       vreg_set = 1;
     } else eta = v;
     if ((kw == "pfac" || kw == "sfac") && v <= 0.0)
@@ -268,27 +269,27 @@ int FixContactTriPenalty::parse_contact_keyword(const std::string &kw, int iarg,
   if (kw == "stick") {
     need_values(iarg, narg, 1, kw);
     const std::string v = arg[iarg + 1];
-    if (v == "yes") stick = 1;
-    else if (v == "no") stick = 0;
-    else error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
+    if (v != "yes" && v != "no") error->all(FLERR, "Fix contact/tri-penalty: stick must be yes or no, got {}", v);
+    // (with friction memory an error in check_keywords, which names stick)
+    if (!friction.memory()) friction.kind = v == "yes" ? sphcut::FrictionLaw::STATIC : sphcut::FrictionLaw::COULOMB;
     stick_given = 1;
     return 2;
   }
   if (kw == "friction") {
     need_values(iarg, narg, 1, kw);
     const std::string v = arg[iarg + 1];
-    if (v == "static") stick = 1;
-    else if (v == "coulomb") stick = 0;
-    else if (v == "memory") fmemory = 1;
+    if (v == "static") friction.kind = sphcut::FrictionLaw::STATIC;
+    else if (v == "coulomb") friction.kind = sphcut::FrictionLaw::COULOMB;
+    else if (v == "memory") friction.kind = sphcut::FrictionLaw::MEMORY;
     else error->all(FLERR, "Fix contact/tri-penalty: friction must be static, coulomb or memory, got {}", v);
-    if (v != "memory") fmemory = 0;
     friction_given = 1;
     return 2;
   }
   if (kw == "tfac") {
     need_values(iarg, narg, 1, kw);
-    tfac = number(arg[iarg + 1]);
+    const double tfac = number(arg[iarg + 1]);
     if (tfac <= 0.0 || tfac > 1.0) error->all(FLERR, "Fix contact/tri-penalty: tfac must be in (0,1], got {}", tfac);
+    friction.tfac = tfac;
     tfac_given = 1;
     return 2;
   }
@@ -297,22 +298,28 @@ int FixContactTriPenalty::parse_contact_keyword(const std::string &kw, int iarg,
     const std::string v = arg[iarg + 1];
     if (v == "table") {
       need_values(iarg, narg, 2, kw);
-      mustyle = MU_TABLE;
       read_mu_table(arg[iarg + 2]);
+      friction.mu_kind = sphcut::FrictionLaw::MU_TABLE;
+      friction.nmu = (int) mu_t.size();
+      friction.mu_t = mu_t.data();
+      friction.mu_v = mu_v.data();
       return 3;
     }
     if (utils::strmatch(v, "^v_")) {
       // mu v_name tvar NAME: equal-style variable of the internal variable NAME (the temperature)
       if (iarg + 3 >= narg || std::string(arg[iarg + 2]) != "tvar")
         error->all(FLERR, "Fix contact/tri-penalty: mu v_{} needs 'tvar NAME' (an internal variable)", v.substr(2));
-      mustyle = MU_VARIABLE;
       mu_var = v.substr(2);
       mu_tvar = arg[iarg + 3];
+      friction.mu_kind = sphcut::FrictionLaw::MU_HOST;
+      friction.host_mu = &FixContactTriPenalty::mu_variable;
+      friction.host_ctx = this;
       return 4;
     }
-    mustyle = MU_CONST;
-    mu0 = number(arg[iarg + 1]);
+    const double mu0 = number(arg[iarg + 1]);
     if (mu0 < 0.0) error->all(FLERR, "Fix contact/tri-penalty: mu must be >= 0, got {}", mu0);
+    friction.mu_kind = sphcut::FrictionLaw::MU_CONST;
+    friction.mu0 = mu0;
     return 2;
   }
   return 0;
@@ -382,6 +389,7 @@ int FixContactTriPenalty::parse_heat_keyword(const std::string &kw, int iarg, in
 void FixContactTriPenalty::check_keywords(const ToolSpec &spec)
 {
   if (spec.kind.empty()) error->all(FLERR, "Fix contact/tri-penalty: no tool geometry (keyword stl or insert)");
+  const bool fmemory = friction.memory();
   if (fmemory && stick_given)
     error->all(FLERR, "Fix contact/tri-penalty: stick applies to friction static/coulomb, not to friction memory");
   if (stick_given && friction_given)
@@ -541,7 +549,7 @@ void FixContactTriPenalty::init()
     if (!input->variable->equalstyle(iv))
       error->all(FLERR, "Fix contact/tri-penalty: spin rate variable {} is not equal-style", spin_var);
   }
-  if (mustyle == MU_VARIABLE) {
+  if (friction.host_only()) {    // mu v_name tvar NAME: the variables of mu_variable
     mu_ivar = input->variable->find(mu_var.c_str());
     mu_itvar = input->variable->find(mu_tvar.c_str());
     if (mu_ivar < 0 || !input->variable->equalstyle(mu_ivar))
@@ -564,7 +572,7 @@ void FixContactTriPenalty::init()
   dt_crit = initial_spring_limit();
   if (!vreg_set) {
     const double s = sqrt(vtool[0] * vtool[0] + vtool[1] * vtool[1] + vtool[2] * vtool[2]);
-    vreg = 0.01 * s;    // 1 % of the tool speed (fixed tool: 0, Coulomb above the floor of post_force)
+    friction.v_reg = 0.01 * s;    // 1 % of the tool speed (fixed tool: 0, Coulomb above the floor of post_force)
   }
 }
 
@@ -762,13 +770,16 @@ void FixContactTriPenalty::initial_integrate(int)
 
 /* ---------------------------------------------------------------------- */
 
-double FixContactTriPenalty::friction_coefficient(double temp)
+// the friction law's mu(T) of mu v_name tvar NAME (sphcut::FrictionLaw::MU_HOST, host only): the
+// equal-style variable at the internal variable NAME = temp, clipped at 0
+double FixContactTriPenalty::mu_variable(void *self, double temp)
 {
-  if (mustyle == MU_CONST) return mu0;
-  if (mustyle == MU_TABLE) return sphcut::mu_table(mu_t.data(), mu_v.data(), (int) mu_t.size(), temp);
-  input->variable->internal_set(mu_itvar, temp);
-  const double m = input->variable->compute_equal(mu_ivar);
-  if (m != m) error->one(FLERR, "Fix contact/tri-penalty: mu variable {} is not a number (NaN) at {} = {}", mu_var, mu_tvar, temp);
+  auto *fx = static_cast<FixContactTriPenalty *>(self);
+  fx->input->variable->internal_set(fx->mu_itvar, temp);
+  const double m = fx->input->variable->compute_equal(fx->mu_ivar);
+  if (m != m)
+    fx->error->one(FLERR, "Fix contact/tri-penalty: mu variable {} is not a number (NaN) at {} = {}", fx->mu_var,
+                   fx->mu_tvar, temp);
   return m > 0.0 ? m : 0.0;
 }
 
@@ -789,16 +800,8 @@ sphcut::ContactIn FixContactTriPenalty::contact_params(double dt_force) const
   in.dfac = dfac;
   in.sfac = sfac;
   in.onset = onset;
-  in.v_reg = vreg;
-  // friction opposes the sliding the particle would have after the step (its pair forces
-  // included) and never exceeds the force that stops it: static friction up to mu F_N
-  in.dt_stick = stick ? dt_force : 0.0;
-  if (fmemory) {
-    in.friction_memory = 1;
-    in.tfac = tfac;
-    in.dt = dt_force;
-    in.dt_stick = 0.0;
-  }
+  in.friction = friction;
+  in.dt = dt_force;
   return in;
 }
 
@@ -818,7 +821,6 @@ sphcut::ContactStep FixContactTriPenalty::step_params(double dt_force) const
   cs.rot = rotation();
   cs.dt = update->dt;
   cs.setup = update->setupflag;
-  cs.fmemory = fmemory;
   cs.eta = eta;
   cs.split = split;
   cs.has_heat = heat != nullptr;
@@ -863,7 +865,6 @@ struct FixContactTriPenalty::HostSink {
   double spacing() const { return fx->model->spacing(it); }
   double E() const { return mat[it].E; }
   double mass() const { return rmass ? rmass[i] : tmass[it]; }
-  double mu(double temp) { return fx->friction_coefficient(temp); }
   double *state() const { return st[i]; }
   double *output() const { return out[i]; }
   void add(int c, double val)

@@ -88,19 +88,16 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   int parse_spin(int iarg, int narg, char **arg);
   sphcut::ToolRotation rotation() const;    // the pose of the current angle (step_params)
   // contact parameters
-  double etool, pfac, dfac, sfac, vreg;
+  double etool, pfac, dfac, sfac;
+  // the friction law (sphcut::FrictionLaw: static limit, Coulomb or memory; mu constant, a table
+  // mu(T) or an equal-style variable of an internal T), set by the keywords; vreg by init() unless given
+  sphcut::FrictionLaw friction;
   int vreg_set;
-  int stick = 1;              // 1: friction limited to the force that stops the trial sliding
-  int fmemory = 0;            // 1: friction with memory (elastic predictor, return to the cone)
-  double tfac = 0.1;          // alpha of the friction predictor (tangential stiffness alpha m/dt^2)
   int stick_given = 0, tfac_given = 0, friction_given = 0, split_given = 0;
-  // friction coefficient: constant, table mu(T), or an equal-style variable of an internal T
-  enum { MU_CONST, MU_TABLE, MU_VARIABLE };
-  int mustyle;
-  double mu0;
-  std::vector<double> mu_t, mu_v;
-  std::string mu_var, mu_tvar;
+  std::vector<double> mu_t, mu_v;    // the table mu(T) that friction points at
+  std::string mu_var, mu_tvar;       // mu v_name tvar NAME: the law's host function (mu_variable)
   int mu_ivar, mu_itvar;
+  static double mu_variable(void *fix, double temp);
   // heat
   double eta, split;
   int split_auto;
@@ -155,7 +152,6 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   void load_geometry(const ToolSpec &spec);
   void build_insert(const ToolSpec &spec);
   void declare_outputs();
-  double friction_coefficient(double temp);
   void compute_tool_velocity();    // vtool from the constants / variables
   void update_tool_velocity();     // and the rigid tool particles' velocity (host)
   void write_geometry();

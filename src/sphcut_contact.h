@@ -382,6 +382,71 @@ SPHCUT_INLINE double penalty_normal_force(double k, double damp, double delta, d
   return k * (d0 > 0.0 ? delta - 0.5 * d0 : delta) + damp * delta_dot;
 }
 
+/* friction coefficient from a table mu(T) (n points, T ascending), clamped at the ends */
+SPHCUT_INLINE double mu_table(const double *t, const double *mu, int n, double temp)
+{
+  if (temp <= t[0]) return mu[0];
+  if (temp >= t[n - 1]) return mu[n - 1];
+  int k = 1;
+  while (t[k] < temp) k++;
+  const double s = (temp - t[k - 1]) / (t[k] - t[k - 1]);
+  return mu[k - 1] + s * (mu[k] - mu[k - 1]);
+}
+
+/* ----------------------------------------------------------------------
+   the friction law of fix contact/tri-penalty (its keywords friction, stick, vreg, tfac, mu):
+   the force law with its parameters, and the coefficient mu(T) at the particle's temperature.
+     kind     STATIC   Coulomb friction capped at the force that stops the trial sliding within
+                       the step: static friction up to mu F_N (friction static, the fix's default)
+              COULOMB  Coulomb friction against the sliding velocity (friction coulomb)
+              MEMORY   elastic predictor and return to the Coulomb cone (friction memory)
+              (force(): the formulas are in penalty_contact's comment)
+     mu(T)    MU_CONST mu0
+              MU_TABLE the nmu points (mu_t, mu_v) that the driver points at (host or device
+                       copies), linear in between, clamped at the ends (mu_table)
+              MU_HOST  host_mu(host_ctx, T): a function of the host driver (fix contact/tri-penalty
+                       evaluates its equal-style variable mu v_name); never on a device (there
+                       mu0; the /kk fix refuses it: host_only())
+   A plain struct of values and pointers, copied to the device with the driver's parameters
+   (ContactIn::friction); a driver fills it once and changes only the table pointers.  A new law
+   is a kind here with its branch in force(), and its keyword in the fix.
+------------------------------------------------------------------------- */
+
+struct ContactIn;
+struct ContactOut;
+
+struct FrictionLaw {
+  enum Kind { COULOMB = 0, STATIC, MEMORY };
+  enum MuKind { MU_CONST = 0, MU_TABLE, MU_HOST };
+  int kind = COULOMB;
+  double v_reg = 0.0;    // STATIC, COULOMB: linear regularisation below this sliding speed (<= 0: none)
+  double tfac = 0.1;     // MEMORY: alpha of the predictor, tangential stiffness alpha m/dt^2
+  int mu_kind = MU_CONST;
+  double mu0 = 0.0;
+  int nmu = 0;
+  const double *mu_t = nullptr, *mu_v = nullptr;
+  double (*host_mu)(void *, double) = nullptr;
+  void *host_ctx = nullptr;
+
+  // the law keeps each particle's friction force from step to step (the FMEM state columns)
+  SPHCUT_INLINE bool memory() const { return kind == MEMORY; }
+  // mu(T) needs the host (a device cannot evaluate it)
+  SPHCUT_INLINE bool host_only() const { return mu_kind == MU_HOST; }
+  SPHCUT_INLINE double mu(double temp) const
+  {
+    if (mu_kind == MU_TABLE) return mu_table(mu_t, mu_v, nmu, temp);
+#if !defined(__CUDA_ARCH__) && !defined(__HIP_DEVICE_COMPILE__)
+    if (mu_kind == MU_HOST) return host_mu(host_ctx, temp);
+#endif
+    return mu0;
+  }
+  // the friction force of a contact with normal force fn and tangential relative velocity vt:
+  // out.ft, out.slip, out.fric_power (in.mu, in.dt, in.mass, in.n, in.f_other, in.ft_old)
+  SPHCUT_INLINE void force(const ContactIn &in, double fn, const double *vt, ContactOut &out) const;
+  SPHCUT_INLINE void sliding_force(const ContactIn &in, double fn, const double *vt, ContactOut &out) const;
+  SPHCUT_INLINE void memory_force(const ContactIn &in, double fn, const double *vt, ContactOut &out) const;
+};
+
 /* ----------------------------------------------------------------------
    one particle - tool contact pair
 ------------------------------------------------------------------------- */
@@ -404,16 +469,11 @@ struct ContactIn {
   double dfac = 0.0;                    // fraction of critical damping (penalty_damping)
   double sfac = 1.2;                    // h = SFAC dp, eq. 9
   double onset = 0.0;                   // > 0: the spring ramps in over this fraction of the contact radius
-  double mu = 0.0;                      // Coulomb friction coefficient, eq. 13
-  double v_reg = 0.0;                   // friction regularisation speed (<= 0: none)
-  double dt_stick = 0.0;                // > 0: stick limit over this step (see penalty_contact)
   double f_other[3] = {0.0, 0.0, 0.0};  // the other forces on the particle (pair, body) this step
-  // friction with memory (friction_memory = 1, see penalty_contact; the fields above that
-  // concern the static-limit law, v_reg and dt_stick, are not used then)
-  int friction_memory = 0;              // 1: elastic predictor + return to the Coulomb cone
-  double tfac = 0.1;                    // alpha of the predictor: tangential stiffness alpha m/dt^2
-  double dt = 0.0;                      // time step of the predictor
-  double ft_old[3] = {0.0, 0.0, 0.0};   // friction force of the particle's last step (0: new contact)
+  FrictionLaw friction;                 // the friction law (the same for every particle)
+  double mu = 0.0;                      // its coefficient at the particle's temperature, friction.mu(T), eq. 13
+  double dt = 0.0;                      // the time step the friction is based on (FrictionLaw)
+  double ft_old[3] = {0.0, 0.0, 0.0};   // friction force of the particle's last step (friction memory; 0: new contact)
 };
 
 struct ContactOut {
@@ -446,8 +506,10 @@ struct ContactOut {
        oscillator's restitution exp(-pi z/sqrt(1-z^2)), z = DFAC.  The
        force vanishes with the penetration, so there is no static adhesion.
      v_t = v_rel - (v_rel.n) n, t = v_t/|v_t|                (eqs. 14-15)
+   the friction force F_T (in.friction.force(), FrictionLaw), static limit and Coulomb
+   (friction.kind STATIC, COULOMB):
      F_T = -min(mu |F_N| min(1, |w|/v_reg), m |w|/dt) w/|w|     (eq. 13)
-       w = v_t + dt/m f_other,t (dt_stick > 0), else w = v_t: the
+       w = v_t + dt/m f_other,t (STATIC), else w = v_t: the
        sliding velocity the particle would have after the step without
        friction (velocity Verlet: v^(n+3/2) = v^(n+1/2) + dt/m F^(n+1)),
        f_other the other forces on the particle (its SPH neighbours).
@@ -455,10 +517,10 @@ struct ContactOut {
        force m |w|/dt that stops it within the step: a particle held
        by its neighbours against the tool sticks (static friction up to
        mu F_N), a sliding one gets full Coulomb friction, and friction
-       never reverses the sliding in a step (no chattering).  Linear
-       regularisation below v_reg (v_reg <= 0: plain Coulomb).
-     f = F_N + F_T                                           (eqs. 16-17)
-   friction with memory (in.friction_memory = 1; LS-DYNA, the IWF GPU code):
+       never reverses the sliding in a step (no chattering); COULOMB:
+       without that cap.  Linear regularisation below v_reg (v_reg <= 0:
+       plain Coulomb).
+   friction with memory (friction.kind MEMORY; LS-DYNA, the IWF GPU code):
      f_o = f_old - (f_old.n) n       (last step's friction force, projected to the tangent plane)
      f* = f_o - alpha m v_t/dt       (elastic predictor: a tangential spring of stiffness
                                       alpha m/dt^2 stretched by the step's sliding v_t dt)
@@ -467,14 +529,45 @@ struct ContactOut {
      F_T = 0 while F_N <= 0; the caller keeps F_T as the particle's f_old of the next step
      and resets it to 0 when the contact ends.  Friction heat: the friction force times the
      slip rate (|f*| - mu F_N) dt/(alpha m), i.e. mu F_N |v_t| in steady sliding and 0 while
-     the tangential spring only stretches (stick).  v_reg and dt_stick are not used.
+     the tangential spring only stretches (stick).  v_reg is not used.
+   f = F_N + F_T                                             (eqs. 16-17)
 ------------------------------------------------------------------------- */
 
-SPHCUT_INLINE void memory_friction(const ContactIn &in, double fn, const double *vt, ContactOut &out)
+// the static-limit and the Coulomb law
+SPHCUT_INLINE void FrictionLaw::sliding_force(const ContactIn &in, double fn, const double *vt, ContactOut &out) const
+{
+  const double dts = kind == STATIC ? in.dt : 0.0;    // > 0: the stick limit over this step
+  // trial sliding velocity w over the step without friction
+  double w[3] = {vt[0], vt[1], vt[2]};
+  if (dts > 0.0) {
+    const double fon = dot3(in.f_other, in.n);
+    for (int k = 0; k < 3; k++) w[k] += dts / in.mass * (in.f_other[k] - fon * in.n[k]);
+  }
+  const double ws = len3(w);
+  if (in.mu > 0.0 && fn > 0.0 && ws > 0.0) {    // no friction without compression
+    const double ramp = (v_reg > 0.0 && ws < v_reg) ? ws / v_reg : 1.0;
+    double ftmag = in.mu * fn * ramp;
+    out.slip = ramp == 1.0;
+    if (dts > 0.0) {
+      const double fstick = in.mass * ws / dts;
+      if (ftmag > fstick) {
+        ftmag = fstick;
+        out.slip = 0;
+      }
+    }
+    for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * w[k] / ws;
+    // power of the friction force against the sliding (> 0: dissipated into heat)
+    const double p = -dot3(out.ft, vt);
+    out.fric_power = p > 0.0 ? p : 0.0;
+  }
+}
+
+// the memory law: elastic predictor, return to the Coulomb cone
+SPHCUT_INLINE void FrictionLaw::memory_force(const ContactIn &in, double fn, const double *vt, ContactOut &out) const
 {
   if (!(in.mu > 0.0) || !(fn > 0.0) || !(in.dt > 0.0) || !(in.mass > 0.0)) return;    // out.ft = 0
   const double fon = dot3(in.ft_old, in.n);
-  const double kdt = in.tfac * in.mass / in.dt;    // stiffness alpha m/dt^2 times dt
+  const double kdt = tfac * in.mass / in.dt;    // stiffness alpha m/dt^2 times dt
   double ts[3];
   for (int k = 0; k < 3; k++) ts[k] = in.ft_old[k] - fon * in.n[k] - kdt * vt[k];
   const double tsl = len3(ts), fmax = in.mu * fn;
@@ -485,6 +578,12 @@ SPHCUT_INLINE void memory_friction(const ContactIn &in, double fn, const double 
   } else {
     for (int k = 0; k < 3; k++) out.ft[k] = ts[k];
   }
+}
+
+SPHCUT_INLINE void FrictionLaw::force(const ContactIn &in, double fn, const double *vt, ContactOut &out) const
+{
+  if (kind == MEMORY) memory_force(in, fn, vt, out);
+  else sliding_force(in, fn, vt, out);
 }
 
 // the particle - tool pair: eqs. 9-17 as described above penalty_contact's comment
@@ -514,34 +613,7 @@ SPHCUT_INLINE void penalty_contact(const ContactIn &in, ContactOut &out)
   axpy3(vrel, -vn, in.n, vt);
   const double vs = len3(vt);
   out.vslide = vs;
-  if (in.friction_memory) {
-    memory_friction(in, fn, vt, out);
-    for (int k = 0; k < 3; k++) out.f[k] = fn * in.n[k] + out.ft[k];
-    return;
-  }
-  // trial sliding velocity w over the step without friction
-  double w[3] = {vt[0], vt[1], vt[2]};
-  if (in.dt_stick > 0.0) {
-    const double fon = dot3(in.f_other, in.n);
-    for (int k = 0; k < 3; k++) w[k] += in.dt_stick / in.mass * (in.f_other[k] - fon * in.n[k]);
-  }
-  const double ws = len3(w);
-  if (in.mu > 0.0 && fn > 0.0 && ws > 0.0) {    // no friction without compression
-    const double ramp = (in.v_reg > 0.0 && ws < in.v_reg) ? ws / in.v_reg : 1.0;
-    double ftmag = in.mu * fn * ramp;
-    out.slip = ramp == 1.0;
-    if (in.dt_stick > 0.0) {
-      const double fstick = in.mass * ws / in.dt_stick;
-      if (ftmag > fstick) {
-        ftmag = fstick;
-        out.slip = 0;
-      }
-    }
-    for (int k = 0; k < 3; k++) out.ft[k] = -ftmag * w[k] / ws;
-    // power of the friction force against the sliding (> 0: dissipated into heat)
-    const double p = -dot3(out.ft, vt);
-    out.fric_power = p > 0.0 ? p : 0.0;
-  }
+  in.friction.force(in, fn, vt, out);
   for (int k = 0; k < 3; k++) out.f[k] = fn * in.n[k] + out.ft[k];
 }
 
@@ -810,17 +882,6 @@ SPHCUT_INLINE bool near_contact(double d, double h, double sfac, const double *v
   double vr2 = 0.0;
   for (int k = 0; k < dim; k++) vr2 += (v[k] - vtool[k]) * (v[k] - vtool[k]);
   return d < 0.5 * h / sfac + 10.0 * sqrt(vr2) * dt + 0.01 * h;
-}
-
-/* friction coefficient from a table mu(T) (n points, T ascending), clamped at the ends */
-SPHCUT_INLINE double mu_table(const double *t, const double *mu, int n, double temp)
-{
-  if (temp <= t[0]) return mu[0];
-  if (temp >= t[n - 1]) return mu[n - 1];
-  int k = 1;
-  while (t[k] < temp) k++;
-  const double s = (temp - t[k - 1]) / (t[k] - t[k - 1]);
-  return mu[k - 1] + s * (mu[k] - mu[k - 1]);
 }
 
 /* ----------------------------------------------------------------------

@@ -17,7 +17,6 @@
      h() spacing() E()       smoothing length, particle spacing (<= 0:
                              h/sfac), Young's modulus of its type
      mass()                  (read when the tool is within 2h)
-     mu(T)                   friction coefficient at temperature T (in contact)
      state() output()        its row of the SPH state (StateLayout) and of
                              the per-atom output (force 3, F_N, |F_T|,
                              feature + 1)
@@ -116,12 +115,11 @@ struct ContactStep {
   TriBinView tool;                  // the tool's bins, tool frame (host or device copies)
   const int *feature = nullptr;     // tool feature of each element (fix contact/tri-penalty FEAT_*)
   ContactIn base;                   // the ContactIn fields common to all particles (vtool, dim, E_tool,
-                                    // factors, friction law: FixContactTriPenalty::contact_params)
+                                    // factors, the friction law and its dt: FixContactTriPenalty::contact_params)
   double disp[3] = {0.0, 0.0, 0.0};    // tool displacement: the particles are queried at x - disp
   ToolRotation rot;                 // and, when rot.on, turned back into the tool frame (tool_frame_point)
   double dt = 0.0;                  // this step's time step (dt band, tool fields, heat booked)
   int setup = 0;                    // a setup evaluation: forces only, no time passes
-  int fmemory = 0;                  // friction with memory (the FMEM columns)
   double eta = 1.0;                 // fraction of the friction power that becomes heat
   double split = 1.0;               // the workpiece's share of that heat
   int has_heat = 0;                 // a heat fix takes heat into the particles
@@ -231,7 +229,7 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   for (int k = 0; k < 6; k++) fo[k] = 0.0;
   // friction memory: a step takes the last step's friction force as f_old, remembers it
   // as its input and zeroes the state (set again below if the particle is in contact)
-  if (cs.fmemory && !cs.setup) memory_friction_step(fm);
+  if (b.friction.memory() && !cs.setup) memory_friction_step(fm);
   if (!candidate) return;
 
   const double h = sink.h();
@@ -294,7 +292,7 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   // f_old of the memory law: at a step its input set above; a setup evaluation that repeats
   // the last step (a continued run) uses that step's input if the particle had friction then,
   // else the current state (zero after a contact ended)
-  if (cs.fmemory) memory_friction_input(fm, !cs.setup, repeat, in.ft_old);
+  if (b.friction.memory()) memory_friction_input(fm, !cs.setup, repeat, in.ft_old);
   for (int k = 0; k < 3; k++) {
     in.x[k] = sink.x(k);
     in.v[k] = vuse[k];
@@ -305,11 +303,11 @@ SPHCUT_INLINE void contact_step(const ContactStep &cs, bool candidate, Sink &sin
   in.h = h;
   in.E_particle = E;
   in.dp = dp;
-  in.mu = sink.mu(s[SL::TEMP_F]);
+  in.mu = b.friction.mu(s[SL::TEMP_F]);
   ContactOut out;
   penalty_contact(in, out);
   if (!out.active) return;
-  if (cs.fmemory && !cs.setup)
+  if (b.friction.memory() && !cs.setup)
     for (int k = 0; k < 3; k++) fm[k] = out.ft[k];
 
   // the decomposition by the tool feature of the nearest element (forces on the tool)

@@ -182,8 +182,11 @@ CXX_FOR_KOKKOS="${CXX:-g++}"
 CXXSTD=14
 # packages we compare against; MACHDYN needs Eigen (libeigen3-dev), CPU only
 CMP_PKGS=(-DPKG_MACHDYN=ON -DDOWNLOAD_EIGEN3=OFF -DPKG_SPH=ON)
+# The patches (table with the checks: doc/build.md "Patches to the dependencies"); each line says
+# why and what breaks without it.
 # Fix 0 (every backend): Kokkos_MemoryPool.cpp uses uint32_t without <cstdint>, which
 # g++ >= 13 no longer includes transitively (the device machine's compiler).
+#   Without it: Kokkos does not compile with g++ >= 13 ("'uint32_t' has not been declared").
 grep -q "sphcut fix 0" "$KSRC/core/src/impl/Kokkos_MemoryPool.cpp" || \
   sed -i '0,/^#include/s//#include <cstdint>  \/\/ sphcut fix 0: g++ >= 13\n#include/' \
     "$KSRC/core/src/impl/Kokkos_MemoryPool.cpp"
@@ -191,15 +194,21 @@ grep -q "sphcut fix 0" "$KSRC/core/src/impl/Kokkos_MemoryPool.cpp"
 if [ $CUDA = 1 ]; then
   # Fixes to Kokkos 3.4.01, which predates CUDA 13 and Hopper:
   # (1) nvcc_wrapper's default architecture sm_35 is rejected by CUDA 13: default to sm_80.
+  #     Without it: every compile without -arch (CMake's compiler check first) stops with
+  #     "nvcc fatal : Unsupported gpu architecture 'sm_35'".
   sed -i 's/^default_arch="sm_35"/default_arch="sm_80"/' "$KSRC/bin/nvcc_wrapper"
   grep -q '^default_arch="sm_80"' "$KSRC/bin/nvcc_wrapper"
   # (2) Kokkos_Cuda_Half.hpp: the CUDA_VERSION < 11100 guard picks the wrong half-type
   #     conversion branch for CUDA >= 12; always take the first branch.
+  #     Without it: every source including Kokkos_Core.hpp fails against CUDA 13's cuda_fp16.h
+  #     ("no suitable user-defined conversion from half_t to __half").
   sed -i 's/#if (CUDA_VERSION < 11100)/#if 1 \/* sphcut: was (CUDA_VERSION < 11100) *\//' \
     "$KSRC/core/src/Cuda/Kokkos_Cuda_Half.hpp"
   grep -q 'sphcut: was (CUDA_VERSION < 11100)' "$KSRC/core/src/Cuda/Kokkos_Cuda_Half.hpp"
   # (3) CUDA 13 changed cudaMemPrefetchAsync(ptr, n, device, stream) to
   #     (ptr, n, cudaMemLocation{type, id}, flags, stream).
+  #     Without it: Kokkos_CudaSpace.cpp does not compile ("no suitable constructor exists to
+  #     convert from int to cudaMemLocation").
   python3 - "$KSRC/core/src/Cuda/Kokkos_CudaSpace.cpp" <<'EOF'
 import re, sys
 p = sys.argv[1]; s = open(p).read()
@@ -214,7 +223,10 @@ if n == 0: sys.exit("fix 3: no cudaMemPrefetchAsync call found")
 open(p, "w").write(s2)
 EOF
   # (5) Kokkos_Cuda_Instance.cpp refuses to run sm_80 code on a compute capability 9.0 device;
-  #     allow a newer major version, the embedded PTX is JIT-compiled for sm_90.
+  #     allow a newer major version, the embedded PTX is JIT-compiled for sm_90 (Kokkos 3.4 has
+  #     no Hopper architecture).  Without it: every run on an H100/H200 aborts in
+  #     Kokkos::initialize ("running kernels compiled for compute capability 8.0 on device with
+  #     compute capability 9.0 is not supported by CUDA!").
   python3 - "$KSRC/core/src/Cuda/Kokkos_Cuda_Instance.cpp" <<'EOF'
 import sys
 p = sys.argv[1]; s = open(p).read()
@@ -244,6 +256,7 @@ cmake --build "$PREFIX/build/kokkos" -j "$JOBS" >> "$PREFIX/build-kokkos.log" 2>
 if [ $CUDA = 1 ]; then
   # (4) with CMake >= 3.31 the installed KokkosConfig.cmake must find the CUDA toolkit
   #     before it loads its exported targets, which name CUDA::cudart etc.
+  #     Without it: LAMMPS' configure fails in find_package(Kokkos) with CMake >= 3.31.
   cfg="$PREFIX/lib/cmake/Kokkos/KokkosConfig.cmake"
   #     (the installed file spells it INCLUDE(, so match either case)
   grep -q "sphcut fix 4" "$cfg" || \
@@ -267,6 +280,10 @@ if [ $CUDA = 1 ]; then
   # fixes' and pairs' messages without their whole buffers (fix 8), all of them through page-locked
   # host buffers (fix 9)
   # (checked on the OpenMP backend by ctest -R test_migrate_np2_staged; figures bench/gpu/RESULTS.md)
+  # Performance only, for several GPUs without a GPU-aware MPI (LAMMPS' host path gives the same
+  # results); without each, on the 3D slab of 4.24 M particles: fix 6 2 H100 46.7 against 34.8 ms
+  # a step, fix 7 4 H200 19.6 against 16.6, fix 8 15.0 against 13.5, fix 9 12.1 against 11.1.
+  # LAMMPS 4Jul2026 still takes its host path with gpu/aware off on several ranks.
   python3 "$HERE/lammps-staged-comm.py" "$LSRC/src/KOKKOS/kokkos.cpp" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
   grep -q "sphcut fix 6" "$LSRC/src/KOKKOS/comm_kokkos.cpp"
   grep -q "sphcut fix 7" "$LSRC/src/KOKKOS/comm_kokkos.cpp"

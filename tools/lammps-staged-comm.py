@@ -10,8 +10,9 @@ patched in place, each by its name; a file already patched is left alone)
 
 Without a GPU-aware MPI (Open MPI built without CUDA, as on the device machine) LAMMPS 29Sep2021
 sends every Kokkos forward communication on several ranks through its classic host path: each step
-the whole x array goes to the host and back, and each fix's and pair's columns too.  Newer LAMMPS
-packs on the device and moves only the message through the host.  Here:
+the whole x array goes to the host and back, and each fix's and pair's columns too.  LAMMPS
+4Jul2026 does the same (kokkos.cpp: gpu/aware off on several ranks sets every Kokkos communication
+to its legacy host path), so it would need this too.  Here:
 
 comm_kokkos.cpp  CommKokkos::forward_comm_device packs on the device, copies the n packed doubles
                  to the host half of the send buffer, MPI on host memory, and copies the received

@@ -550,7 +550,7 @@ TEST(Penalty, Friction)
 {
   ContactIn in = steel_particle();
   in.mu = 0.3;
-  in.v_reg = 0.5;
+  in.friction.v_reg = 0.5;    // (friction.kind COULOMB, the default of sphcut::ContactIn)
   in.dfac = 0.0;
   const double n[3] = {0.0, 1.0, 0.0};
   const double rp = 0.5 * in.h / in.sfac;
@@ -578,13 +578,13 @@ TEST(Penalty, Friction)
         continue;
       }
       EXPECT_NEAR(dot3(out.ft, dir), -ft, 1e-12 * out.fn);    // opposes sliding
-      const double expect = in.mu * out.fn * std::min(1.0, speed / in.v_reg);
+      const double expect = in.mu * out.fn * std::min(1.0, speed / in.friction.v_reg);
       EXPECT_NEAR(ft, expect, 1e-12 * out.fn);
       for (int c = 0; c < 3; c++) EXPECT_NEAR(out.f[c], out.fn * n[c] + out.ft[c], 1e-12 * out.fn);
     }
   }
   // plain Coulomb without regularisation, and no friction out of contact
-  in.v_reg = 0.0;
+  in.friction.v_reg = 0.0;
   double v[3] = {vt[0] + 1e-6, 0.0, 0.0};
   ContactOut out = plane_contact(in, x, v, n);
   EXPECT_NEAR(len3(out.ft), in.mu * out.fn, 1e-12 * out.fn);
@@ -594,22 +594,21 @@ TEST(Penalty, Friction)
   EXPECT_EQ(out.fric_power, 0.0);
 }
 
-// friction with memory (sphcut_contact.h memory_friction): the elastic predictor
+// friction with memory (sphcut_contact.h FrictionLaw::memory_force): the elastic predictor
 // f* = f_old,t - alpha m v_t/dt, returned to the cone |F_T| <= mu F_N
 TEST(Penalty, FrictionMemory)
 {
   ContactIn in = steel_particle();
   in.mu = 0.3;
   in.dfac = 0.0;
-  in.friction_memory = 1;
-  in.tfac = 0.1;
+  in.friction.kind = FrictionLaw::MEMORY;
+  in.friction.tfac = 0.1;
   in.dt = 1.0e-8;
-  in.v_reg = 0.5;       // not used by the memory law
-  in.dt_stick = 1.0;    // not used either
+  in.friction.v_reg = 0.5;    // not used by the memory law
   const double n[3] = {0.0, 1.0, 0.0};
   const double rp = 0.5 * in.h / in.sfac;
   const double x[3] = {0.0, 0.8 * rp, 0.0};
-  const double kdt = in.tfac * in.mass / in.dt;    // force per unit sliding speed of one step
+  const double kdt = in.friction.tfac * in.mass / in.dt;    // force per unit sliding speed of one step
 
   // a new contact (f_old = 0) sliding slowly: the predictor alone, no slip, no heat
   double v[3] = {1.0e-3, 0.0, 0.0};
@@ -667,6 +666,81 @@ TEST(Penalty, FrictionMemory)
   out = plane_contact(in, x, v, n);
   EXPECT_EQ(len3(out.ft), 0.0);
   EXPECT_EQ(out.fric_power, 0.0);
+}
+
+// the friction law's mu(T): a constant, a table (at its points, linear between them, the end
+// values outside), and a function of the host driver (fix contact/tri-penalty's mu v_name)
+TEST(FrictionLaw, MuOfTemperature)
+{
+  FrictionLaw law;
+  law.mu0 = 0.4;
+  EXPECT_EQ(law.mu(300.0), 0.4);
+  EXPECT_EQ(law.mu(2000.0), 0.4);
+  EXPECT_FALSE(law.host_only());
+  const double t[3] = {300.0, 700.0, 1100.0}, m[3] = {0.5, 0.3, 0.2};
+  law.mu_kind = FrictionLaw::MU_TABLE;
+  law.nmu = 3;
+  law.mu_t = t;
+  law.mu_v = m;
+  for (int k = 0; k < 3; k++) EXPECT_EQ(law.mu(t[k]), m[k]);
+  EXPECT_NEAR(law.mu(500.0), 0.4, 1e-15);
+  EXPECT_NEAR(law.mu(1000.0), 0.225, 1e-15);
+  EXPECT_EQ(law.mu(20.0), 0.5);
+  EXPECT_EQ(law.mu(5000.0), 0.2);
+  EXPECT_FALSE(law.host_only());
+  double calls = 0.0;
+  law.mu_kind = FrictionLaw::MU_HOST;
+  law.host_ctx = &calls;
+  law.host_mu = [](void *c, double temp) {
+    *static_cast<double *>(c) += 1.0;
+    return 1e-3 * temp;
+  };
+  EXPECT_TRUE(law.host_only());
+  EXPECT_EQ(law.mu(450.0), 0.45);
+  EXPECT_EQ(calls, 1.0);
+}
+
+// the static limit (friction static) against plain Coulomb (friction coulomb): a particle pushed
+// along the tool by its neighbours (f_other) sliding slowly: static friction takes the force that
+// stops the trial sliding w = v_t + dt/m f_other,t within the step, Coulomb mu F_N against v_t
+TEST(FrictionLaw, StaticLimitAgainstCoulomb)
+{
+  ContactIn in = steel_particle();
+  in.mu = 0.3;
+  in.dfac = 0.0;
+  in.dt = 1.0e-8;
+  const double n[3] = {0.0, 1.0, 0.0};
+  const double rp = 0.5 * in.h / in.sfac;
+  const double x[3] = {0.0, 0.8 * rp, 0.0};
+  const double v[3] = {1.0e-3, 0.0, 0.0};
+  in.f_other[1] = -5.0;    // normal part: not in w
+  in.friction.kind = FrictionLaw::COULOMB;
+  ContactOut out = plane_contact(in, x, v, n);
+  ASSERT_EQ(out.active, 1);
+  const double fmax = in.mu * out.fn;
+  EXPECT_NEAR(out.ft[0], -fmax, 1e-12 * fmax);
+  EXPECT_EQ(out.slip, 1);
+  // static: w = v_t + dt/m f_other,t; held (f_other,t = 0): the stick force m |v_t|/dt < mu F_N
+  in.friction.kind = FrictionLaw::STATIC;
+  const double fstick = in.mass * v[0] / in.dt;
+  ASSERT_LT(fstick, fmax);
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(out.ft[0], -fstick, 1e-12 * fmax);
+  EXPECT_EQ(out.slip, 0);
+  EXPECT_NEAR(out.fric_power, fstick * v[0], 1e-12 * fstick * v[0]);
+  // pushed against the sliding by a force the friction can hold: w = 0, no friction force
+  in.f_other[0] = -in.mass * v[0] / in.dt;
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(len3(out.ft), 0.0, 1e-12 * fmax);
+  // pushed along it beyond mu F_N: sliding at the Coulomb limit against w
+  in.f_other[0] = 10.0 * fmax;
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(out.ft[0], -fmax, 1e-12 * fmax);
+  EXPECT_EQ(out.slip, 1);
+  // without a step (dt 0) the static law is the Coulomb law
+  in.dt = 0.0;
+  out = plane_contact(in, x, v, n);
+  EXPECT_NEAR(out.ft[0], -fmax, 1e-12 * fmax);
 }
 
 /* ----------------------------------------------------------------------

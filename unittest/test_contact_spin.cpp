@@ -162,7 +162,6 @@ struct StepSink {
   double spacing() const { return DP; }
   double E() const { return 1e6; }
   double mass() const { return RHO * DP * DP * DP; }
-  double mu(double) const { return MU; }
   double *state() { return st.data(); }
   double *output() { return out.data(); }
   void add(int c, double val) { sums[c] += val; }
@@ -196,6 +195,7 @@ TEST(Spin, ContactStepSlidingSpeedPerContact)
   cs.base.onset = 0.2;
   cs.base.dfac = 0.1;
   cs.base.vtool[0] = 0.3;    // the tool also translates: v_t + omega z x r
+  cs.base.friction.mu0 = MU;    // Coulomb friction (the law's defaults) with a constant mu
   cs.dt = 1e-6;
   cs.fields = 1;
   cs.inv_area = inv_area.data();

@@ -84,7 +84,8 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   int region;
   int e = tool_surface(g, x, 1e-4, d, n, q, region);
   ContactIn ci = cin[0]; ContactOut co;
-  ci.friction_memory = e & 1;
+  ci.friction.kind = (e & 1) ? FrictionLaw::MEMORY : FrictionLaw::STATIC;
+  ci.mu = ci.friction.mu(s[10]);
   memory_friction_input(s, true, false, ci.ft_old);
   memory_friction_step(s);
   penalty_contact(ci, co);
