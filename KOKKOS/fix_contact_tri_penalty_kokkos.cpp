@@ -473,6 +473,7 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::setup(i
     if (!restored) clear_history();
     fixkk->k_state.modify_host();
   }
+  fields_at_setup();    // as the CPU fix's setup (host: the pose, no device sums)
   inside_checked = 1;
   xcalls = -1;    // the cross neighbours from this setup's lists (masks may have changed between runs)
   post_force(vflag);

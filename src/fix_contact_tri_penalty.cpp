@@ -695,6 +695,7 @@ void FixContactTriPenalty::setup(int vflag)
     // an earlier contact fix left in the state
     if (!restored) clear_history();
   }
+  fields_at_setup();    // before inside_checked: a fix's first setup
   inside_checked = 1;
   post_force(vflag);
   if (write_every) write_geometry();

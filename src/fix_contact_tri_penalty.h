@@ -185,6 +185,7 @@ class FixContactTriPenalty : public Fix, public sphcut::AttachedStyle {
   void fields_setup();                          // after the geometry: facets, vector and array sizes
   void fields_step();                           // post_force of a step (not a setup): the interval's time
   virtual void fields_end_of_step();            // the interval's end: averages (the /kk fix fetches first)
+  void fields_at_setup();                       // a run's setup: the array's pose columns at this step
   // the tool's fingerprint in restart files: element values, the vertices' bounding box (lo, hi)
   enum { NFINGER = 7 };
   void tool_fingerprint(double *fp) const;

@@ -73,6 +73,22 @@ void FixContactTriPenalty::fields_end_of_step()
   if (fields.every && update->ntimestep % fields.every == 0) fields.close_interval(world, current_elements());
 }
 
+/* a run's setup: the array where it is read at the setup step (fix print, thermo, variables).
+   At steps that are multiples of N (step 0 included) the centroids of the tool's pose of this
+   step, as the interval closed there would give them: at step 0 no interval has closed and out
+   held the constructor's zeros (a spinning tool's angle read from a centroid came out wrong
+   at step 0); a continued run at a multiple of N gets the values its last step closed with (the
+   same arithmetic of the same pose, unchanged).  A fix defined anew at another step gets the
+   pose too (no interval of it has closed).  The averages, the running sums and the interval's
+   time are left alone; a restored fix between intervals keeps the restart file's array (a split
+   run reads as the unsplit one) */
+
+void FixContactTriPenalty::fields_at_setup()
+{
+  if (!fields.every) return;
+  if (update->ntimestep % fields.every == 0 || (!inside_checked && !restored)) fields.set_pose(current_elements());
+}
+
 double FixContactTriPenalty::compute_array(int i, int j)
 {
   return fields.out[(size_t) i * sphcut::ToolFields::NCOL + j];

@@ -92,7 +92,6 @@ void ToolFields::close_interval(MPI_Comm world, const std::vector<double> &cur_e
   MPI_Allreduce(acc.data(), g.data(), (int) acc.size(), MPI_DOUBLE, MPI_SUM, world);
   const double rt = time > 0.0 ? 1.0 / time : 0.0;
   for (int k = 0; k < NGLOB; k++) glob[k] = 0.0;
-  const int stride = 3 * nvert;
   for (int e = 0; e < nfacet; e++) {
     const double *s = &g[(size_t) e * NFS];
     double *o = &out[(size_t) e * NCOL];
@@ -107,20 +106,29 @@ void ToolFields::close_interval(MPI_Comm world, const std::vector<double> &cur_e
     for (int k = 0; k < 3; k++) o[C_FX + k] = s[FS_FX + k] * rt;
     o[C_AREA] = area[e];
     o[C_FEAT] = feature[e];
-    const double *v = cur_elem.data() + (size_t) stride * e;
-    for (int k = 0; k < 3; k++) {
-      double c = 0.0;
-      for (int m = 0; m < nvert; m++) c += v[3 * m + k];
-      o[C_CX + k] = c / nvert;
-    }
     glob[G_WEAR_RATE] += o[C_WEAR] * area[e];
     glob[G_FN] += s[FS_FN] * rt;
     glob[G_FT] += s[FS_FT] * rt;
     glob[G_WEAR_VOL] += depth[e] * area[e];
     glob[G_DEPTH_MAX] = std::max(glob[G_DEPTH_MAX], depth[e]);
   }
+  set_pose(cur_elem);
   std::fill(acc.begin(), acc.end(), 0.0);
   time = 0.0;
+}
+
+void ToolFields::set_pose(const std::vector<double> &cur_elem)
+{
+  const int stride = 3 * nvert;
+  for (int e = 0; e < nfacet; e++) {
+    double *o = &out[(size_t) e * NCOL];
+    const double *v = cur_elem.data() + (size_t) stride * e;
+    for (int k = 0; k < 3; k++) {
+      double c = 0.0;
+      for (int m = 0; m < nvert; m++) c += v[3 * m + k];
+      o[C_CX + k] = c / nvert;
+    }
+  }
 }
 
 const char *ToolFields::column_name(int c)

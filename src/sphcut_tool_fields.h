@@ -64,6 +64,9 @@ class ToolFields {
   // MPI sum of the running interval, its averages into out and glob, wear depth; restart the sums.
   // cur_elem: the current (moved) elements for the centroids
   void close_interval(MPI_Comm world, const std::vector<double> &cur_elem);
+  // the centroid columns of out from the current elements (close_interval; a run's setup where
+  // no interval closes: fix contact/tri-penalty fields_at_setup)
+  void set_pose(const std::vector<double> &cur_elem);
   static const char *column_name(int c);
   // the VTK cell arrays of write_vtk: every column's name (none while the tool fields are off)
   std::vector<std::string> vtk_names() const;

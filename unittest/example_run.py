@@ -1,7 +1,8 @@
 """The part test_milling.py and test_fsw.py share: run an example's LAMMPS input (stop with its
 output's end if LAMMPS fails), the check() that prints and counts failures, the example's output
-file as rows of numbers without step 0 (the fix's tool fields are not set at step 0), and the checks
-of a spinning tool's torque and spindle power."""
+file as rows of numbers (all, or without step 0: the setup's row, no step taken, no interval of the
+fix's tool fields averaged; its angle, from the tool fields' centroids, is checked apart), and the
+checks of a spinning tool's torque and spindle power."""
 import subprocess
 import sys
 
@@ -22,13 +23,22 @@ def check(cond, what):
         fails.append(what)
 
 
-def rows_after_step0(path):
+def all_rows(path):
     rows = []
     with open(path) as f:
         for line in f:
             if not line.startswith("#") and line.strip():
                 rows.append([float(x) for x in line.split()])
-    return [r for r in rows if r[0] > 0]
+    return rows
+
+
+def rows_after_step0(path):
+    return [r for r in all_rows(path) if r[0] > 0]
+
+
+def step0_row(path):
+    """the row of step 0 (None if there is none)"""
+    return next((r for r in all_rows(path) if r[0] == 0), None)
 
 
 def check_spindle(rows, w, col_contacts, col_torque, col_power, min_contact, settle, unit):

@@ -15,11 +15,15 @@
 //   analytic rotation of the initial ones about the moving axis point.
 //   Invariance: a restart in the middle of the rotation continues bit for bit (one rank), 1 vs 2
 //   ranks (mpirun -np 2), CPU vs -k on t 1 -sf kk (Kokkos OpenMP backend, SPHCUT_SPIN_KOKKOS).
+//   Tool fields at a setup (tool_fields N): at step 0 the array's centroids are the tool's start
+//   pose (they were zeros, CPU and /kk), a continued run and a read_restart read the row the last
+//   interval closed with; CPU vs -sf kk.
 //   Bad input: a zero axis, a NaN rate variable (named with the step), a non-z axis in 2D.
 #include "sphcut_test.h"
 
 #include "sphcut_contact_step.h"
 #include "sphcut_stl.h"
+#include "sphcut_tool_fields.h"
 #include "update.h"
 
 #include <algorithm>
@@ -503,6 +507,152 @@ TEST(Spin, CpuVsKokkos)
   expect_same(cpu, kk, 1e-10, "kokkos");
 }
 #endif
+
+/* ----------------------------------------------------------------------
+   the tool fields' array at a run's setup (tool_fields N, read there by fix print, thermo or a
+   variable): at step 0 no interval has closed, yet the centroid columns (13-15) give the facets
+   of the tool's pose of that step (the examples' spindle angle is read from them; the array held
+   zeros there, on the CPU and under /kk), the averages 0.  A continued run at a multiple of N
+   (run after run, and after read_restart) reads at its setup the row the last step closed with,
+   bit for bit; the centroids at step 20 are the analytic turn and carry of the step-0 ones.
+   CPU and -sf kk (Kokkos OpenMP, 2 threads, full list, newton off) give the same rows
+------------------------------------------------------------------------- */
+
+namespace {
+
+using Rows = std::vector<std::vector<double>>;
+
+Rows tool_array(Lammps &l)
+{
+  Rows a;
+  const int nrow = tool_fix(l)->size_array_rows;
+  for (int i = 1; i <= nrow; i++) {
+    a.emplace_back();
+    for (int j = 1; j <= sphcut::ToolFields::NCOL; j++)
+      a.back().push_back(l.equal("f_tool[" + std::to_string(i) + "][" + std::to_string(j) + "]"));
+  }
+  return a;
+}
+
+struct SetupRows {
+  Rows step0, step20, again20, restart20;
+};
+
+const std::string FIELDS = " tool_fields 10";
+
+SetupRows setup_rows(const std::vector<std::string> &switches, const char *restart_file)
+{
+  SetupRows r;
+  {
+    Lammps l(MPI_COMM_WORLD, switches);
+    l.cmds(block_scene());
+    l.cmds(block_fixes(num(W), FIELDS));
+    EXPECT_EQ(tool_fix(l)->kokkosable, switches.empty() ? 0 : 1);    // the /kk fix with -sf kk
+    l.cmd("run 0");
+    r.step0 = tool_array(l);
+    l.cmd("run 20");
+    r.step20 = tool_array(l);
+    l.cmds({"run 0", "write_restart " + std::string(restart_file)});
+    r.again20 = tool_array(l);
+  }
+  Lammps l(MPI_COMM_WORLD, switches);
+  l.cmds({"read_restart " + std::string(restart_file), "thermo 0"});
+  l.cmds(block_fixes(num(W), FIELDS));
+  l.cmd("run 0");
+  EXPECT_EQ(l.lmp->update->ntimestep, 20);
+  r.restart20 = tool_array(l);
+  return r;
+}
+
+// the largest difference over the columns [c0, c1) of all rows
+double rows_diff(const Rows &a, const Rows &b, int c0 = 0, int c1 = sphcut::ToolFields::NCOL)
+{
+  EXPECT_EQ(a.size(), b.size());
+  double d = 0.0;
+  for (size_t i = 0; i < std::min(a.size(), b.size()); i++)
+    for (int c = c0; c < c1; c++) d = std::max(d, fabs(a[i][c] - b[i][c]));
+  return d;
+}
+
+// the largest difference of a column relative to the column's largest magnitude, over all columns
+double rows_rel(const Rows &a, const Rows &b)
+{
+  EXPECT_EQ(a.size(), b.size());
+  double worst = 0.0;
+  for (int c = 0; c < sphcut::ToolFields::NCOL; c++) {
+    double scale = 0.0, d = 0.0;
+    for (size_t i = 0; i < std::min(a.size(), b.size()); i++) {
+      scale = std::max(scale, fabs(a[i][c]));
+      d = std::max(d, fabs(a[i][c] - b[i][c]));
+    }
+    if (d > 0.0) worst = std::max(worst, scale > 0.0 ? d / scale : 1.0);
+  }
+  return worst;
+}
+
+// e: the plate's elements as in its STL file
+void expect_setup_rows(const SetupRows &r, const std::vector<double> &e, const char *what)
+{
+  using TF = sphcut::ToolFields;
+  ASSERT_EQ(r.step0.size(), e.size() / 9);
+  ASSERT_EQ(r.step0.size(), 12u);
+  // block_fixes: spin about z through the origin at W, carried at 0.5 m/s along x; 20 steps of 2e-6 s
+  const double th = W * 20 * 2e-6, c = cos(th), s = sin(th), dx = 0.5 * 20 * 2e-6;
+  double e0 = 0.0, e20 = 0.0, avg0 = 0.0, n20 = 0.0;
+  for (size_t f = 0; f < r.step0.size(); f++) {
+    double cen[3];
+    for (int k = 0; k < 3; k++) cen[k] = (e[9 * f + k] + e[9 * f + 3 + k] + e[9 * f + 6 + k]) / 3.0;
+    const double turned[3] = {c * cen[0] - s * cen[1] + dx, s * cen[0] + c * cen[1], cen[2]};
+    for (int k = 0; k < 3; k++) {
+      e0 = std::max(e0, fabs(r.step0[f][TF::C_CX + k] - cen[k]));
+      e20 = std::max(e20, fabs(r.step20[f][TF::C_CX + k] - turned[k]));
+    }
+    for (int col = TF::C_SN; col <= TF::C_FZ; col++) avg0 = std::max(avg0, fabs(r.step0[f][col]));
+    EXPECT_EQ(r.step0[f][TF::C_AREA], r.step20[f][TF::C_AREA]) << what;
+    n20 += r.step20[f][TF::C_N];
+  }
+  if (rank() == 0)
+    std::printf("[ %-8s ] step 0: centroids vs the STL's %.2e m, averages %.1e; step 20 (%.3f rad, %.0f contacts): vs "
+                "the analytic turn %.2e m; continued run %.1e, after read_restart %.1e\n",
+                what, e0, avg0, th, n20, e20, rows_diff(r.again20, r.step20), rows_diff(r.restart20, r.step20));
+  EXPECT_LE(e0, 1e-17) << what;      // theta 0, no displacement: the STL's facets (the bug: zeros)
+  EXPECT_EQ(avg0, 0.0) << what;      // no interval has closed
+  EXPECT_LT(e20, 1e-15) << what;     // the angle's and the rotation's round-off (the plate is 23 mm)
+  EXPECT_GT(n20, 0.0) << what;       // the block is in contact in the interval 10-20
+  EXPECT_EQ(rows_diff(r.again20, r.step20), 0.0) << what;
+  EXPECT_EQ(rows_diff(r.restart20, r.step20), 0.0) << what;
+}
+
+}    // namespace
+
+TEST(Spin, ToolFieldsAtTheSetup)
+{
+  // the plate written once and read by every rank before the runs (a second write_plate while
+  // another rank still reads the file would race)
+  write_plate();
+  sphcut::StlTransform none;
+  const std::vector<double> plate = sphcut::read_stl("spinplate.stl", none);
+  const SetupRows cpu = setup_rows({}, "spin_fields.restart");
+  expect_setup_rows(cpu, plate, "cpu");
+#ifdef SPHCUT_SPIN_KOKKOS
+  const SetupRows kk = setup_rows({"-k", "on", "t", "2", "-sf", "kk", "-pk", "kokkos", "neigh", "full", "newton", "off"},
+                                  "spin_fields_kk.restart");
+  expect_setup_rows(kk, plate, "kokkos");
+  // the step-0 rows alike; at step 20 and after read_restart the centroids bit for bit (host
+  // arithmetic of the same pose), the averages (atomic sums on the device) to 1e-12
+  const double d0 = rows_rel(cpu.step0, kk.step0), d20 = rows_rel(cpu.step20, kk.step20),
+               dr = rows_rel(cpu.restart20, kk.restart20);
+  if (rank() == 0)
+    std::printf("[ kokkos   ] CPU vs -sf kk, largest difference relative to the column's scale: step 0 %.1e, "
+                "step 20 %.2e (centroids %.1e m), after read_restart %.2e\n",
+                d0, d20, rows_diff(cpu.step20, kk.step20, sphcut::ToolFields::C_CX), dr);
+  EXPECT_LE(d0, 1e-12);
+  EXPECT_LE(d20, 1e-12);
+  EXPECT_LE(dr, 1e-12);
+  EXPECT_EQ(rows_diff(cpu.step0, kk.step0, sphcut::ToolFields::C_CX), 0.0);
+  EXPECT_EQ(rows_diff(cpu.step20, kk.step20, sphcut::ToolFields::C_CX), 0.0);
+#endif
+}
 
 /* ----------------------------------------------------------------------
    bad input

@@ -3,7 +3,7 @@
 the start (ramp 0) plunging at 0.4 m/s: the pin tip touches the plate after about 120 steps; 600
 steps in all.  Asserts the physics of the rotating tool from fsw.dat:
 - the tool turns by rate * time: the angle measured from the fix's turned facet equals w t,
-  w = 2 pi rpm / 60, to 1e-8 degrees;
+  w = 2 pi rpm / 60, to 1e-8 degrees; at step 0 (the setup's row) 0;
 - the spindle torque (element 53) is > 0 once the tool is in contact: it resists the rotation;
 - spindle power (element 54) = torque * w;
 - the axial force pushes the tool up (Fz > 0) in contact; forces finite and bounded;
@@ -14,7 +14,7 @@ import math
 import os
 import sys
 
-from example_run import check, check_spindle, fails, rows_after_step0, run  # this folder
+from example_run import check, check_spindle, fails, rows_after_step0, run, step0_row  # this folder
 
 lmp, exdir = sys.argv[1], sys.argv[2]
 RPM = 1000.0
@@ -36,6 +36,9 @@ check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |turned - w t|
       f"{rows[-1][5]:.3f} deg")
 check(err_rate < 1e-8 and all(abs(r[3] - W) < 1e-9 * W for r in rows),
       f"rate {W:.6g} rad/s throughout, turned_rate = w t: max error {err_rate:.2e} deg")
+r0 = step0_row("fsw.dat")
+check(r0 is not None and abs(r0[4]) < 1e-8 and r0[5] == 0.0,
+      f"step 0: turned {r0[4] if r0 else None} deg = 0 (the fix's array at the setup: the tool's start)")
 contact = check_spindle(rows, W, col_contacts=10, col_torque=8, col_power=9, min_contact=20, settle=100, unit="N m")
 first = contact[0][0] if contact else 0
 steady = [r for r in contact if r[0] >= first + 100]

@@ -8,16 +8,20 @@ steps; 3,000 steps in all.  Asserts the physics of the rotating cutter from mill
   cutter, its negative, resists the rotation;
 - spindle power (element 54) = torque * w;
 - the forces are finite and bounded; no particle starts in the tool's contact radius;
-- plot.py's mechanistic model gives (-F_r, F_t) at phi 90 and reads the run's parameters.
-Usage: python3 test_milling.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
+- plot.py's mechanistic model gives (-F_r, F_t) at phi 90 and reads the run's parameters;
+- at step 0 (the setup's row of fix print) phi is the start phi0: the fix's array gives the
+  centroids of the tool's pose there (they were zeros, on the CPU and under /kk); with a third
+  argument "kokkos" also a short run with -sf kk, whose rows at steps 0 and 10 equal the CPU's.
+Usage: python3 test_milling.py LMP EXAMPLE_DIR [kokkos]  (run in an empty working folder)"""
 import math
 import os
 import subprocess
 import sys
 
-from example_run import check, check_spindle, fails, rows_after_step0, run  # this folder
+from example_run import all_rows, check, check_spindle, fails, rows_after_step0, run, step0_row  # this folder
 
 lmp, exdir = sys.argv[1], sys.argv[2]
+kokkos = len(sys.argv) > 3 and sys.argv[3] == "kokkos"
 R, VC = 1.0e-3, 70.0
 W = VC / 60.0 / R
 args = [lmp, "-in", os.path.join(exdir, "in.milling"), "-var", "exdir", exdir, "-var", "dx", "25e-6",
@@ -37,6 +41,27 @@ turned = rows[-1][3] - phi0
 check(err_fix < 1e-8, f"the fix's tool turned by rate * time: max |phi - phi_rate| {err_fix:.2e} deg "
       f"over {turned:.3f} deg turned")
 check(err_rate < 1e-8, f"phi_rate = phi0 + w t with w = vc/R = {W:.6g} rad/s: max error {err_rate:.2e} deg")
+# the setup's row (step 0): the tool at its start, phi = phi0, from the fix's array (its centroids)
+r0 = step0_row("milling.dat")
+check(r0 is not None and abs(r0[2] - phi0) < 1e-8 and abs(r0[3] - phi0) < 1e-8,
+      f"step 0: phi {r0[2] if r0 else None} = the start phi0 {phi0:.6f} deg (the fix's array at the setup)")
+if kokkos:
+    # the same input under /kk, 10 steps, a row every 10: the rows at step 0 and 10 as the CPU's
+    os.makedirs("kk", exist_ok=True)
+    kargs = args + ["-var", "printevery", "10", "-k", "on", "t", "2", "-sf", "kk", "-pk", "kokkos", "neigh", "full",
+                    "newton", "off"]
+    kargs[kargs.index("steps") + 1] = "10"
+    kargs[kargs.index("-log") + 1] = "log.milling.kk"
+    p = subprocess.run(kargs, capture_output=True, text=True, cwd="kk")
+    check(p.returncode == 0, "the /kk run of 10 steps" + ("" if p.returncode == 0 else ": " + (p.stdout + p.stderr)[-2000:]))
+    kr = all_rows(os.path.join("kk", "milling.dat")) if p.returncode == 0 else []
+    cr = {r[0]: r for r in all_rows("milling.dat")}
+    k0 = kr[0] if kr else None
+    check(k0 is not None and k0[0] == 0 and abs(k0[2] - phi0) < 1e-8,
+          f"/kk step 0: phi {k0[2] if k0 else None} = the start phi0 {phi0:.6f} deg")
+    diff = max((abs(a - b) for r in kr for a, b in zip(r, cr.get(r[0], [math.inf] * len(r)))), default=math.inf)
+    check(len(kr) == 2 and diff <= 1e-12,
+          f"/kk rows at steps {[int(r[0]) for r in kr]} equal the CPU's: largest difference {diff:.2e}")
 # 2. torque once a tooth is in contact, 3. power = torque * rate
 check_spindle(rows, W, col_contacts=8, col_torque=6, col_power=7, min_contact=100, settle=300, unit="N m/mm")
 # 4. finite, bounded forces (the model's peak at these conditions is about 200 N/mm)
