@@ -11,6 +11,9 @@
      newer:     get_fix_list(), get_fix_by_id(), get_fix_by_style(), get_fix_mask(), ...
                 (LAMMPS pull request 3001, Oct 2021); 4Jul2026 deprecates find_fix() and
                 find_compute(), the 13Nov2026 feature release removes the arrays
+   and the style names write_restart records (SPHCUT_RESTART_PLAIN_STYLES below):
+     29Sep2021: as the run had them, atomic/kk and sph/jc-thermal/kk under -sf kk
+     newer:     without the -sf suffix, atomic and sph/jc-thermal (LAMMPS pull request 3538)
    Checked with -fsyntax-only against 4Feb2025 and 4Jul2026 (Debian sources) by the ctest
    test_compat_lammps (tools/compat-check.sh).
 ------------------------------------------------------------------------- */
@@ -196,6 +199,23 @@ inline int fix_mask(LAMMPS_NS::Modify *modify, LAMMPS_NS::Fix *fix)
   return 0;
 #endif
 }
+
+// The style names in a restart file.  29Sep2021's write_restart records atom->atom_style and
+// force->pair_style as they are: a run under -k on -sf kk records atomic/kk and sph/jc-thermal/kk,
+// which only a reader with -k on can create (without it the plugin refuses the atom style,
+// sphcut_plugin.cpp).  LAMMPS pull request 3538 ("Remove suffix from style names when writing
+// restart files", Dec 2022: in every release from 8Feb2023; read in 4Jul2026's write_restart.cpp,
+// utils::strip_style_suffix) records them without the -sf suffix, atomic and sph/jc-thermal: such a
+// file is read without -k on as the CPU styles, and with -sf kk as the /kk ones (read_restart
+// applies the suffix), but not under -k on without -sf kk (AtomKokkos::new_avec: "KOKKOS package
+// requires a Kokkos-enabled atom_style"); a /kk atom style is recorded only where the input named
+// it (atom_style atomic/kk).  The switch is at 8Feb2023; between the two only 4Feb2025 is built here
+#if SPHCUT_LAMMPS_VERSION >= 20230208
+#define SPHCUT_RESTART_PLAIN_STYLES 1
+constexpr bool restart_plain_styles = true;
+#else
+constexpr bool restart_plain_styles = false;
+#endif
 
 }    // namespace sphcut
 

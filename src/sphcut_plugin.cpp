@@ -17,6 +17,7 @@
 #include "fix_heat_fmfs.h"
 #include "fix_sph_jc_thermal.h"
 #include "pair_sph_jc_thermal.h"
+#include "sphcut_compat.h"
 
 #include <cstdio>
 #include <string>
@@ -57,18 +58,24 @@ void add(lammpsplugin_regfunc reg, void *lmp, void *handle, const char *style, c
   (*reg)(&plugin, lmp);
 }
 
-// A /kk atom style without -k on (a restart file written with -k on records atomic/kk): LAMMPS
-// 29Sep2021 creates it and aborts in Kokkos, "Constructing View and initializing data with
-// uninitialized execution space".  Without -k on, plugin load puts a creator that stops the input
-// with what to do in place of each such style's (one creator per style, K, to name it)
+// A /kk atom style without -k on: LAMMPS 29Sep2021 creates it and aborts in Kokkos, "Constructing
+// View and initializing data with uninitialized execution space" (4Jul2026 stops with "Cannot use
+// KOKKOS styles without enabling KOKKOS", which names neither the style nor the way on).  Without
+// -k on, plugin load puts a creator that stops the input with what to do in place of each such
+// style's (one creator per style, K, to name it).  Where it comes from differs
+// (sphcut::restart_plain_styles, sphcut_compat.h): in 29Sep2021 every restart file written under
+// -k on -sf kk records atomic/kk; from 8Feb2023 such a file records atomic, read here without a
+// word, and atomic/kk comes only from an input that names it (or its restart file)
 constexpr int NKK_ATOM = 64;
 std::string kk_atom_style[NKK_ATOM];
 
 template <int K> AtomVec *refuse_kk_atom_style(LAMMPS *lmp)
 {
-  lmp->error->all(FLERR, "Atom style {} needs the KOKKOS package enabled (a restart file written with -k on "
-                  "records it): run with -k on t N, with -sf kk for the /kk styles or with run_style verlet/kk "
-                  "for the CPU styles", kk_atom_style[K]);
+  lmp->error->all(FLERR, "Atom style {} needs the KOKKOS package enabled ({}): run with -k on t N, with -sf kk "
+                  "for the /kk styles or with run_style verlet/kk for the CPU styles", kk_atom_style[K],
+                  sphcut::restart_plain_styles
+                      ? "named in the input, or recorded in a restart file whose input named it"
+                      : "a restart file written with -k on records it");
   return nullptr;
 }
 

@@ -263,10 +263,17 @@ TEST(Kokkos, HalfListMatchesCpu3D)
   expect_same(run({}, "on", 3, 100), run(KK_HALF, "on", 3, 100), "kk half3D");
 }
 
-// a restart written by the CPU styles continues under /kk and the reverse.  A restart written
-// under -k on records the atom style atomic/kk, which LAMMPS 29Sep2021 can only read with -k on
-// (without it, it crashes in AtomVecAtomicKokkos): the CPU styles then run with -k on but no -sf kk,
-// and name the pair style again.
+// a restart written by the CPU styles continues under /kk and the reverse, on each LAMMPS the way
+// its write_restart leaves to a user (sphcut::restart_plain_styles in sphcut_compat.h; doc/build.md
+// "Restart files between the CPU and /kk styles"):
+//   CPU -> /kk, every version: -k on t N -sf kk (read_restart adds the suffix to the atom and pair
+//     styles the file records: atomic/kk, sph/jc-thermal/kk)
+//   /kk -> CPU, 29Sep2021: the file records atomic/kk and sph/jc-thermal/kk, which only a reader
+//     with -k on can create (without it the plugin refuses, WithoutKokkosEnabled): the CPU styles
+//     run with -k on but no -sf kk, run_style verlet/kk, and name the pair style again
+//   /kk -> CPU, from 8Feb2023 (4Jul2026): the file records atomic and sph/jc-thermal: the plain lmp
+//     reads it and goes on with the pair style and coefficients it records; -k on without -sf kk
+//     stops there in LAMMPS (AtomKokkos::new_avec: the recorded atom style is the plain one)
 TEST(Kokkos, RestartBetweenCpuAndKokkos)
 {
   const Snapshot ref = run({}, "on", 2, 100);
@@ -277,12 +284,24 @@ TEST(Kokkos, RestartBetweenCpuAndKokkos)
       l.cmds(collision(cpu_first ? "on" : "off"));
       l.cmds({"run 50", "write_restart kk.restart"});
     }
-    Lammps l(MPI_COMM_WORLD, cpu_first ? KK_FULL : cpu_styles_on_kokkos_atoms);
-    // newton pair as the reader wants it; newton bond cannot change after a restart
-    l.cmds({"read_restart kk.restart", std::string("newton ") + (cpu_first ? "off on" : "on off")});
-    // the restart names the pair style it was written with (sph/jc-thermal/kk): the CPU run names
-    // its own, with the material again (pair_style resets the coefficients)
-    if (!cpu_first) {
+    if (!cpu_first && sphcut::restart_plain_styles) {
+      Lammps k(MPI_COMM_WORLD, cpu_styles_on_kokkos_atoms);
+      EXPECT_TRUE(k.error_contains("read_restart kk.restart", "KOKKOS package requires a Kokkos-enabled atom_style"));
+    }
+    const bool plain_reader = !cpu_first && sphcut::restart_plain_styles;
+    Lammps l(MPI_COMM_WORLD, cpu_first ? KK_FULL : plain_reader ? std::vector<std::string>{} : cpu_styles_on_kokkos_atoms);
+    // newton pair as the reader wants it (read_restart keeps a newton pair off set before it and
+    // warns); newton bond is the file's, unchangeable.  Under /kk (neigh full) no newton command:
+    // 4Jul2026 checks each one against neigh full with newton bond included ("Must use 'newton
+    // off' with KOKKOS package option 'neigh full'"), and the file of the CPU run has newton bond on
+    l.cmd("read_restart kk.restart");
+    if (!cpu_first) l.cmd("newton on off");
+    EXPECT_EQ(l.lmp->force->newton_pair, cpu_first ? 0 : 1);
+    EXPECT_STREQ(l.lmp->atom->atom_style, (cpu_first || !plain_reader) ? "atomic/kk" : "atomic");
+    // 29Sep2021: the restart names the pair style it was written with (sph/jc-thermal/kk): the CPU
+    // run names its own, with the material again (pair_style resets the coefficients)
+    if (!cpu_first && !plain_reader) {
+      EXPECT_STREQ(l.lmp->force->pair_style, "sph/jc-thermal/kk");
       for (auto &line : collision("on"))
         if (line.rfind("pair_", 0) == 0) l.cmd(line);
       l.cmd("run_style verlet/kk");    // -k on without -sf kk
@@ -290,6 +309,7 @@ TEST(Kokkos, RestartBetweenCpuAndKokkos)
     l.cmds({"fix sph all sph/jc-thermal cfl 0.3", "run 50"});
     EXPECT_EQ(l.lmp->update->ntimestep, 100);
     EXPECT_STREQ(l.lmp->force->pair_style, cpu_first ? "sph/jc-thermal/kk" : "sph/jc-thermal");
+    EXPECT_EQ(sphcut::fix_by_id(l.lmp->modify, "sph")->kokkosable, cpu_first ? 1 : 0);
     expect_same(ref, take(l), cpu_first ? "cpu->kk" : "kk->cpu");
   }
 }
@@ -404,9 +424,13 @@ TEST(Kokkos, EnergyBalanceAsOnTheCpu)
 }
 
 // issue 50: the /kk styles and what -k on records, without -k on.  compute reduce/region/kk stops
-// at its definition (it crashed at the run's setup, in AtomKokkos::sync); a restart file written
-// with -k on (atom style atomic/kk) read without it stops naming the atom style (LAMMPS aborted in
-// Kokkos: "Constructing View and initializing data with uninitialized execution space")
+// at its definition (it crashed at the run's setup, in AtomKokkos::sync).  A restart file that
+// records the atom style atomic/kk, read without -k on, stops naming the atom style (LAMMPS 29Sep2021
+// aborted in Kokkos: "Constructing View and initializing data with uninitialized execution space";
+// 4Jul2026 stops with "Cannot use KOKKOS styles without enabling KOKKOS").  Which files record it
+// (sphcut::restart_plain_styles): in 29Sep2021 every file written under -k on -sf kk; from 8Feb2023
+// (4Jul2026) only one whose input named atomic/kk itself, and a file of a -sf kk run records atomic,
+// read without -k on as a CPU run (RestartBetweenCpuAndKokkos compares its state)
 TEST(Kokkos, WithoutKokkosEnabled)
 {
   {
@@ -416,20 +440,46 @@ TEST(Kokkos, WithoutKokkosEnabled)
     EXPECT_TRUE(l.error_contains("compute r all reduce/region/kk rr ave f_sph[12]",
                                  "Compute reduce/region/kk needs the KOKKOS package enabled"));
   }
+  const std::string refused = "Atom style atomic/kk needs the KOKKOS package enabled (";
+  const std::string way = "): run with -k on t N, with -sf kk for the /kk styles";
   {
     Lammps l(MPI_COMM_WORLD, KK_FULL);
     l.cmds(collision("off"));
     l.cmds({"run 10", "write_restart kk-written.restart"});
   }
+  {
+    Lammps l(MPI_COMM_WORLD, {});
+    if (sphcut::restart_plain_styles) {
+      l.cmds({"read_restart kk-written.restart", "newton on off", "fix sph all sph/jc-thermal cfl 0.3", "run 10"});
+      EXPECT_STREQ(l.lmp->atom->atom_style, "atomic");
+      EXPECT_STREQ(l.lmp->force->pair_style, "sph/jc-thermal");
+      EXPECT_EQ(l.lmp->update->ntimestep, 20);
+    } else {
+      EXPECT_TRUE(l.error_contains("read_restart kk-written.restart",
+                                   refused + "a restart file written with -k on records it" + way));
+    }
+  }
+  // the input names atomic/kk (-k on, the CPU styles): the file records atomic/kk on every version
+  {
+    Lammps l(MPI_COMM_WORLD, {"-k", "on", "t", "1"});
+    auto c = collision("off");
+    for (auto &line : c)
+      if (line == "atom_style atomic") line = "atom_style atomic/kk";
+    l.cmds(c);
+    l.cmds({"run_style verlet/kk", "run 10", "write_restart kk-named.restart"});
+  }
   Lammps l(MPI_COMM_WORLD, {});
-  EXPECT_TRUE(l.error_contains("read_restart kk-written.restart",
-                               "Atom style atomic/kk needs the KOKKOS package enabled (a restart file written "
-                               "with -k on records it): run with -k on t N"));
+  EXPECT_TRUE(l.error_contains("read_restart kk-named.restart",
+                               refused + (sphcut::restart_plain_styles
+                                              ? "named in the input, or recorded in a restart file whose input named it"
+                                              : "a restart file written with -k on records it") + way));
 }
 
-// the way doc/fix_sph_jc_thermal.rst gives to continue a /kk run's restart file with the CPU styles,
-// -k on t 1 without -sf kk, runs the cutting example (-var continue 1): its input sets run_style
-// verlet/kk under -k on (LAMMPS stopped with "KOKKOS package requires run_style verlet/kk")
+// the way doc/fix_sph_jc_thermal.rst gives to continue a /kk run's restart file with the CPU styles
+// runs the cutting example (-var continue 1).  29Sep2021: -k on t 1 without -sf kk (the file records
+// atomic/kk), for which the input sets run_style verlet/kk under -k on (LAMMPS stopped with "KOKKOS
+// package requires run_style verlet/kk").  From 8Feb2023 (4Jul2026): the plain lmp (the file
+// records atomic, sphcut::restart_plain_styles)
 TEST(Kokkos, ExampleContinuesWithTheCpuStyles)
 {
   const std::string in = std::string(SPHCUT_SOURCE_DIR) + "/examples/cutting-2d-ti6al4v/in.cutting";
@@ -441,8 +491,9 @@ TEST(Kokkos, ExampleContinuesWithTheCpuStyles)
     return l;
   };
   run({"-k", "on", "t", "1", "-sf", "kk"}, 0).reset();
-  auto l = run({"-k", "on", "t", "1"}, 1);
+  auto l = run(sphcut::restart_plain_styles ? std::vector<std::string>{} : std::vector<std::string>{"-k", "on", "t", "1"}, 1);
   EXPECT_EQ(l->lmp->update->ntimestep, 200);
+  EXPECT_STREQ(l->lmp->atom->atom_style, sphcut::restart_plain_styles ? "atomic" : "atomic/kk");
   EXPECT_STREQ(l->lmp->force->pair_style, "sph/jc-thermal");
   EXPECT_EQ(sphcut::fix_by_id(l->lmp->modify, "sph")->kokkosable, 0);
   // the tool moved at the cutting speed through both parts (f_cut[8]: its displacement in x)
@@ -1355,7 +1406,12 @@ TEST(KokkosThermal, ForcesClearedInTheFirstHalf)
 // on the device during a run (its reductions' final writes them; the host forms the budget when it
 // is read, from the time the current rates have acted for): the 2D cut run as 300 + 300 steps
 // (the budget read between the runs, handed back at the second setup) gives the budget of one run
-// of 600 steps; both are those of the CPU styles (within 4e-13: the sums are formed in another order)
+// of 600 steps; both are those of the CPU styles (the sums are formed in another order).
+// Tolerances 2e-12, about 3x the largest difference measured (runs of test_kokkos, which start
+// Kokkos with 2 threads): split / whole 0 on 29Sep2021 + Kokkos 3.4.01 (5 runs, the same bits each
+// time), 0 to 7e-13 on 4Jul2026 + Kokkos 5.2.2 (0, 2.9e-14, 4.5e-14, 4.6e-13, 7e-13; 4.2e-13 on 2 ranks: the runs are
+// not bit-reproducible there, two of them with one input give two budgets); whole / CPU 8.8e-14 on
+// 29Sep2021, 2.4e-13 to 7.0e-13 on 4Jul2026
 TEST(KokkosThermal, HeatBudgetAcrossRuns)
 {
   auto budget = [](const std::vector<std::string> &args, int first, int second) {
@@ -1374,20 +1430,30 @@ TEST(KokkosThermal, HeatBudgetAcrossRuns)
     for (int k : {1, 2, 6}) b.push_back(l.equal("f_heat[" + std::to_string(k) + "]"));
     return b;
   };
-  // one thread: the contact's heat sums are atomics, whose order on 2 threads changes the last
-  // bits from run to run (and the cut's with them, by up to 2e-13 in this budget)
+  // t 1 takes effect only where this case starts Kokkos (run alone, --gtest_filter): a process keeps
+  // the thread count Kokkos was first initialised with (LAMMPS cannot initialise it again; 29Sep2021
+  // warns, 4Jul2026 does not), 2 in test_kokkos, whose first case uses KK_FULL.  On 2 threads the
+  // contact's heat sums are atomics in an order that may change from run to run, and the cut's last
+  // bits with it: seen on 4Jul2026 + Kokkos 5.2.2, not in the runs on 29Sep2021 + Kokkos 3.4.01
   std::vector<std::string> kk1(KK_FULL);
   kk1[3] = "1";
   const auto split = budget(kk1, 300, 300), whole = budget(kk1, 600, 0), cpu = budget({}, 600, 0);
   std::printf("[ budget   ] convection %.15g / %.15g / CPU %.15g J, radiation %.15g / %.15g / %.15g J, FMFS %.6f\n",
               split[1], whole[0], cpu[0], split[2], whole[1], cpu[1], whole[2]);
+  double dsplit = 0.0, dcpu = 0.0;
+  for (int k = 0; k < 3; k++) {
+    dsplit = std::max(dsplit, fabs(split[k + 1] - whole[k]) / fabs(whole[k]));
+    dcpu = std::max(dcpu, fabs(whole[k] - cpu[k]) / fabs(cpu[k]));
+  }
+  std::printf("[ budget   ] relative difference split / whole %.3e, whole / CPU %.3e (LAMMPS %d, %d Kokkos threads)\n",
+              dsplit, dcpu, SPHCUT_LAMMPS_VERSION, (int) Kokkos::DefaultExecutionSpace().concurrency());
   EXPECT_GT(split[0], 0.0);
   EXPECT_GT(split[1], 2.0 * split[0]);    // the second run added to the first's
-  // (on one thread equal to the printed digits on 1 and 2 ranks)
-  const double rtol = 2e-13;
+  // (on one thread, the case run alone, equal to the printed digits on 1 and 2 ranks)
+  const double rtol = 2e-12;
   for (int k = 0; k < 3; k++) {
     EXPECT_NEAR(split[k + 1], whole[k], rtol * fabs(whole[k])) << k;
-    EXPECT_NEAR(whole[k], cpu[k], 1.5e-12 * fabs(cpu[k])) << k;
+    EXPECT_NEAR(whole[k], cpu[k], rtol * fabs(cpu[k])) << k;
   }
 }
 
