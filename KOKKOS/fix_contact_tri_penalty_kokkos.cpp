@@ -415,7 +415,10 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::init()
   if (toolbit) sphcut::kokkos_full_list<DeviceType>(neighbor);
   fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
   if (!fixkk) error->all(FLERR, "Fix contact/tri-penalty/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
-  integ = dynamic_cast<FixSPHJCThermalKokkos<DeviceType> *>(fix);
+  const sphcut::HookArm<DeviceType> arm = [this](sphcut::IntegratorHooks<DeviceType> &h,
+                                                 const sphcut::HookCall &c) { arm_hook(h, c); };
+  hooked = fixkk->set_hook<DeviceType>(this, sphcut::HOOK_TOOL_HEAT, arm);
+  gather_step = -1;
   wide = sphcut::wide_choice<DeviceType>(lmp, "Fix contact/tri-penalty/kk");
   near_calls = -1;    // built again at the setup
   if (heat && !heat->kokkosable)
@@ -735,11 +738,12 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::write_r
 
 /* the tool particles take the tool's share of the friction heat of the contact particles
    around them, kernel weighted (sphcut::ToolHeatGather; the CPU fix scatters it from the contact
-   particle's side): in fix sph/jc-thermal/kk's corrector kernel of this step (or of the next
-   step's first half, with the positions of the local particles from qtw) when it takes it
-   (not at a setup, nor when another style's gather holds this step), else here, a kernel over the tool
-   particles next to non-tool ones (the others have no contact particle around them), each over
-   its non-tool neighbours in the list's order */
+   particle's side): as this fix's hook before the corrector in the corrector's kernel of fix
+   sph/jc-thermal/kk of this step (or of the next step's first half, with the positions of the
+   local particles from qtw; arm_hook) where this fix holds the hook (hooked), not at a setup (no
+   corrector follows); else here, a kernel over the tool particles next to non-tool ones (the
+   others have no contact particle around them), each over its non-tool neighbours in the list's
+   order */
 template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_heat_gather()
 {
   if (nxtool == 0) return;    // no tool particle has a non-tool neighbour (the tool is away)
@@ -762,10 +766,24 @@ template <class DeviceType> void FixContactTriPenaltyKokkos<DeviceType>::tool_he
   g.hij = d_hij;
   g.qsrc = Kokkos::subview(d_sums, NRED + A_QSRC);
   fixkk->k_state.template modify<DeviceType>();
-  if (integ && integ->take_tool_heat_gather(this, g)) return;
+  if (hooked && !update->setupflag) {
+    gather = g;
+    gather_step = update->ntimestep;
+    return;
+  }
   auto xtool = d_xtool;
   Kokkos::parallel_for("sphcut:contact:tool_heat_gather", sphcut::range<DeviceType>(0, nxtool),
                        KOKKOS_LAMBDA(const int t) { g(xtool(t)); });
+}
+
+/* the hook before the corrector: the gather of the corrector's step, once (a reset_timestep cannot
+   bring it back).  The integrator runs every step's corrector after that step's post_force */
+template <class DeviceType>
+void FixContactTriPenaltyKokkos<DeviceType>::arm_hook(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c)
+{
+  if (c.pass != sphcut::HookCall::CORRECTOR || gather_step < 0 || gather_step != c.step) return;
+  h.corrector.tool_heat = gather;
+  gather_step = -1;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -28,6 +28,7 @@ FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
 #include "kokkos_type.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_contact.h"
+#include "sphcut_hooks_kokkos.h"
 #include "sphcut_material.h"
 #include "sphcut_solid.h"
 
@@ -36,7 +37,6 @@ FixStyle(contact/tri-penalty/kk/host,FixContactTriPenaltyKokkos<LMPHostType>);
 namespace LAMMPS_NS {
 
 class FixSPHJCThermalKokkosBase;
-template <class DeviceType> class FixSPHJCThermalKokkos;
 
 // the mask bits that sort particles for the contact's kernels: the fix's group, its tool particles
 // (tool_particles), fix sph/jc-thermal's tool and clamp roles, the heat fix's group (0: none)
@@ -80,7 +80,14 @@ template <class DeviceType> class FixContactTriPenaltyKokkos : public FixContact
  public:    // (CUDA: a function that launches a device lambda must be public)
   typedef typename DeviceType::memory_space mem;
   FixSPHJCThermalKokkosBase *fixkk;
-  FixSPHJCThermalKokkos<DeviceType> *integ = nullptr;    // fixkk on this device type (the gather's hand-off)
+  // the tool-heat gather as this fix's hook before the corrector of fix sph/jc-thermal/kk
+  // (sphcut::HookHost::set_hook, HOOK_TOOL_HEAT; false: on another device type, or another contact
+  // fix holds the hook): tool_heat_gather keeps the gather of a step (gather, gather_step) for the
+  // hook's arm (arm_hook), which hands it to the corrector's kernel of that step
+  bool hooked = false;
+  sphcut::ToolHeatGather<DeviceType> gather;
+  bigint gather_step = -1;
+  void arm_hook(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c);
   // the particles the contact kernel evaluates (near_build): the local contact candidates within
   // a slack (twice the neighbour skin) of the tool's bin grid (tool frame), which holds every point
   // within the search radius 2h of the tool; built at each setup and reneighbouring and when the

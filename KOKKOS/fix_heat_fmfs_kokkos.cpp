@@ -8,16 +8,16 @@
                              the pairwise exchange and the surface losses
                              into the held rate (state column HELD)
      conservative no         one kernel: the FMFS or Brookshaw Laplacian
-   Other steps launch nothing here: fix sph/jc-thermal/kk applies this
-   fix's rules (handed over in init, set_heat_rules) in its own kernels:
-   its predictor sets the predicted temperature of the Dirichlet groups;
-   its corrector's reduction adds the held rate to the temperature rate
-   DTEMP before the corrector and, right after it, sets the Dirichlet
-   particles back to their temperature, summing the heat that takes (the
-   heat through the clamp) into a device accumulator this fix reads when
-   it needs q_dirichlet (output, restart, end of run), and with an
-   adaptive step writes the thermal dt limit into this fix's slot of fix
-   sph/jc-thermal/kk, on the device.  At the setup this fix sets the
+   Other steps launch nothing here: this fix's hooks run in the kernels of
+   fix sph/jc-thermal/kk (sphcut_heat_hooks_kokkos.h, handed over in init
+   through sphcut::HookHost::set_hook, filled by arm_hooks): after its
+   first half the predicted temperature of the Dirichlet groups; before
+   its corrector the held rate into the temperature rate DTEMP; right
+   after it the Dirichlet particles back to their temperature, the heat
+   that takes (the heat through the clamp) summed into this fix's device
+   accumulator k_qdir, read when it needs q_dirichlet (output, restart,
+   end of run), and with an adaptive step the thermal dt limit into this
+   fix's own dt slot, on the device.  At the setup this fix sets the
    Dirichlet temperatures and adds the held rate in a kernel each.  The
    few global sums of an evaluation (loss rates, scheme counters) come
    back by parallel_reduce.
@@ -123,6 +123,10 @@ FixHeatFMFSKokkos<DeviceType>::FixHeatFMFSKokkos(LAMMPS *lmp, int narg, char **a
   execution_space = ExecutionSpaceFromDevice<DeviceType>::space;
   datamask_read = X_MASK | MASK_MASK | TYPE_MASK | RMASS_MASK;
   datamask_modify = EMPTY_MASK;
+  k_qdir = DAT::tdual_double_1d("heat/fmfs:qdir", 1);
+  k_qdir.view_host()(0) = 0.0;
+  k_qdir.modify_host();
+  k_qdir.template sync<DeviceType>();
 }
 
 template <class DeviceType> FixHeatFMFSKokkos<DeviceType>::~FixHeatFMFSKokkos() {}
@@ -158,21 +162,68 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::init()
   d_h = sphcut::to_device<double, DeviceType>(h.data(), n, "heat/fmfs:h");
   d_tp = sphcut::to_device<sphcut::ThermalPair, DeviceType>(tpair.data(), (int) tpair.size(), "heat/fmfs:tp");
   sphcut::dirichlet_to_device<DeviceType>(dir_bits, dir_temps, "heat/fmfs", d_dirbit, d_dirtemp);
+  // the rules and the thermal limit as hooks in the integrator's kernels (no kernel here on a step
+  // without an evaluation)
+  slot_step = -1;
+  const sphcut::HookArm<DeviceType> arm = [this](sphcut::IntegratorHooks<DeviceType> &h,
+                                                 const sphcut::HookCall &c) { arm_hooks(h, c); };
+  if (!fixkk->set_hook<DeviceType>(this, sphcut::HOOK_HEAT, arm))
+    error->all(FLERR, "Fix heat/fmfs/kk: fix {} runs on another Kokkos device type; use the same "
+               "variant (/kk, /kk/device or /kk/host) for both", fix->id);
 }
 
-/* thermal time step limit of this rank: in this fix's slot when fix sph/jc-thermal/kk's corrector
-   wrote it this step (its final_integrate reduction, the heat rules of set_heat_rules; that fix
-   reads the slot with the others at its end_of_step), else (setup, another Courant number) a
-   reduction on the device here */
+/* this fix's hooks for a pass of fix sph/jc-thermal/kk (sphcut_heat_hooks_kokkos.h): after the
+   first half the Dirichlet groups' predicted temperature; before and after the corrector the held
+   rate, the Dirichlet groups with their heat into k_qdir, and on a step whose dt limits the host
+   reads the thermal limit into this fix's slot (slot_step, slot_F: when it was written) */
+template <class DeviceType>
+void FixHeatFMFSKokkos<DeviceType>::arm_hooks(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c)
+{
+  const int nd = (int) dir_bits.size();
+  if (c.pass == sphcut::HookCall::FIRST_HALF) {
+    auto &p = h.first_half.heat;
+    p.active = nd > 0;
+    p.gb = groupbit;
+    p.nd = nd;
+    p.dbit = d_dirbit;
+    p.dtemp = d_dirtemp;
+    return;
+  }
+  auto &k = h.corrector.heat;
+  k.active = 1;
+  k.gb = groupbit;
+  k.nd = nd;
+  k.dbit = d_dirbit;
+  k.dtemp = d_dirtemp;
+  k.h = d_h;
+  k.every = every;
+  k.F = fixkk->thermal_courant();
+  k.want_lim = c.want_dt && fixkk->holds_slot(this);
+  if (k.want_lim) {
+    k.slot = fixkk->dt_slot_view<DeviceType>(this);    // (k_dtlim: synced and marked by the integrator)
+    slot_step = c.step;
+    slot_F = k.F;
+  }
+  if (nd) {
+    k_qdir.template sync<DeviceType>();
+    k_qdir.template modify<DeviceType>();    // (the kernel follows)
+    qdir_pending = 1;
+  }
+  k.qacc = k_qdir.template view<DeviceType>();
+}
+
+/* thermal time step limit of this rank: in this fix's slot when its hook after the corrector of
+   fix sph/jc-thermal/kk wrote it this step (that fix reads the slot with the others at its
+   end_of_step), else (setup, another Courant number) a reduction on the device here */
 template <class DeviceType> int FixHeatFMFSKokkos<DeviceType>::dt_limit_on_device() const
 {
-  return fixkk && fixkk->heat_slot_step >= 0 && fixkk->heat_slot_step == update->ntimestep && !update->setupflag;
+  return fixkk && slot_step >= 0 && slot_step == update->ntimestep && !update->setupflag;
 }
 
 template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(double, double Fc) const
 {
   if (!fixkk || d_mat.extent(0) == 0) return 1.0e300;
-  if (dt_limit_on_device() && fixkk->heat_slot_F == Fc) return 1.0e300;
+  if (dt_limit_on_device() && slot_F == Fc) return 1.0e300;
   fixkk->k_state.template sync<DeviceType>();
   auto st = fixkk->k_state.template view<DeviceType>();
   auto mask = atomKK->k_mask.view<DeviceType>();
@@ -186,8 +237,7 @@ template <class DeviceType> double FixHeatFMFSKokkos<DeviceType>::dt_limit(doubl
       KOKKOS_LAMBDA(const int i, double &m) {
         if (!(mask(i) & gb)) return;
         const int t = type(i);
-        const double d = sphcut::thermal_dt_limit(st(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t), Fc, ev);
-        if (d < m) m = d;
+        sphcut::thermal_dt_min(mask(i), gb, st(i, FixSPHJCThermal::RHO), mat(t).cp, mat(t).kappa, h(t), Fc, ev, m);
       },
       Kokkos::Min<double>(dt));
   return dt;
@@ -208,8 +258,9 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::setup(int vflag)
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::post_force(int)
 {
-  // an evaluation step computes the held rate HELD; fix sph/jc-thermal/kk's corrector adds it to the
-  // temperature rate (sphcut::add_held_rate, set_heat_rules), so other steps launch nothing here
+  // an evaluation step computes the held rate HELD; this fix's hook in the corrector of fix
+  // sph/jc-thermal/kk adds it to the temperature rate (sphcut::add_held_rate), so other steps launch
+  // nothing here
   const int eval = every == 1 || update->setupflag || update->ntimestep % every == 0;
   // the trapezoid of the losses over the step (FixHeatFMFS::post_force: dt/2 of the last step's
   // rates and dt/2 of this one's), kept as weights: an evaluation's final adds the rates it
@@ -636,8 +687,8 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::unpack_forward_c
 
 /* ----------------------------------------------------------------------
    Dirichlet groups (FixHeatFMFS::setup; after the predictor and after the
-   corrector fix sph/jc-thermal/kk sets their temperature in its own
-   kernels, the heat through the clamp summed on the device there)
+   corrector this fix's hooks set their temperature in the kernels of fix
+   sph/jc-thermal/kk, the heat through the clamp summed on the device)
 ------------------------------------------------------------------------- */
 
 // at the setup: Dirichlet particles start at their temperature (TEMP and the predicted TEMP_F)
@@ -659,12 +710,16 @@ template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::set_dirichlet()
   fixkk->k_state.template modify<DeviceType>();
 }
 
-// the heat the Dirichlet groups took since the last call: fix sph/jc-thermal/kk sums it on the
-// device in its corrector's reduction (the heat rules), the host reads it only here
+// the heat the Dirichlet groups took since the last call: this fix's hook sums it on the device in
+// the corrector's reduction of fix sph/jc-thermal/kk, the host reads it only here
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::fetch_dirichlet()
 {
-  double q;
-  if (fixkk && fixkk->take_dirichlet_heat(q)) q_dirichlet += q;
+  if (!qdir_pending) return;
+  qdir_pending = 0;
+  k_qdir.sync_host();
+  q_dirichlet += k_qdir.view_host()(0);
+  k_qdir.view_host()(0) = 0.0;
+  k_qdir.modify_host();
 }
 
 template <class DeviceType> void FixHeatFMFSKokkos<DeviceType>::write_restart(FILE *fp)

@@ -21,6 +21,7 @@ FixStyle(heat/fmfs/kk/host,FixHeatFMFSKokkos<LMPHostType>);
 #include "fix_heat_fmfs.h"
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_hooks_kokkos.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_material.h"
 
@@ -70,15 +71,23 @@ template <class DeviceType> class FixHeatFMFSKokkos : public FixHeatFMFS, public
   void scheme_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
   template <int DIM, int EAGER>
   void exchange_pass_kk(const HeatFMFSViews<DeviceType> &, const typename AT::t_double_2d &surf);
-  void add_held();    // setup only (during the run fix sph/jc-thermal/kk's corrector adds HELD)
-  void set_dirichlet();    // setup only (during the run fix sph/jc-thermal/kk's predictor sets TEMP_F)
-  // the heat the Dirichlet groups took, summed on the device by fix sph/jc-thermal/kk's corrector
-  // (the heat rules, set_heat_rules; no host round trip per step), into q_dirichlet when the host
-  // needs it (output, restart, end of run).  The thermal dt limit in this fix's slot of that fix
-  // (AttachedStyle::dt_slot) is written by the same reduction after the corrector (the density
-  // the CPU fix's dt_limit sees at end_of_step) when the step is adaptive (heat_slot_step,
-  // heat_slot_F there: the step and thermal Courant number of the limit)
+  void add_held();    // setup only (during the run this fix's hook in the integrator's corrector adds HELD)
+  void set_dirichlet();    // setup only (during the run its hook after the integrator's first half sets TEMP_F)
+  // this fix's hooks in the kernels of fix sph/jc-thermal/kk (sphcut_heat_hooks_kokkos.h), handed
+  // over in init (sphcut::HookHost::set_hook): arm_hooks fills them for each pass of the integrator
+  void hand_over_rules() override {}    // (init: the hooks, once fixkk is known)
+  void arm_hooks(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c);
+  // the heat the Dirichlet groups took, summed on the device by the hook after the corrector into
+  // k_qdir(0) (no host round trip per step; qdir_pending: added to since the last fetch), into
+  // q_dirichlet when the host needs it (output, restart, end of run)
+  DAT::tdual_double_1d k_qdir;
+  int qdir_pending = 0;
   void fetch_dirichlet();
+  // the thermal dt limit in this fix's slot (AttachedStyle::dt_slot) is written by the same hook's
+  // final when the step is adaptive (the density the CPU fix's dt_limit sees at end_of_step):
+  // slot_step, slot_F the step and thermal Courant number of the limit there (the hook's arm)
+  bigint slot_step = -1;
+  double slot_F = 0.0;
   // the loss rates of the last evaluation, the convective and radiative heat of the budget and the
   // scheme counters stay on the device during a run (d_loss): the passes' reductions write them in
   // their final, so that an evaluation makes no host round trip.  The host keeps the time the

@@ -4,27 +4,27 @@
    One step on the device (doc/design.md):
      initial_integrate  one kernel: keep the old rates, kick, drift,
                         predictor, radial return (sphcut_solid.h), the
-                        rates zeroed, the predicted temperature of an
-                        attached heat fix's Dirichlet groups (its rules,
-                        set_heat_rules: no kernel of the heat fix's own)
+                        rates zeroed, then the hooks after the first half
      pre_force          the rates were zeroed by initial_integrate (one kernel
                         zeroing them only after reneighbouring), then the force state
                         to the ghosts by device forward communication
-     final_integrate    one reduction: the heat fix's held rate into the
-                        temperature rate (add_held_rate), corrector, radial
-                        return, plastic heat, then the heat fix's Dirichlet
-                        particles back to their temperature
-                        (hold_corrected_temperature) and its thermal dt
-                        limit (no kernel of the heat fix's own), and the
-                        sums into device views: plastic work and this
-                        rank's Courant limit (k_dtlim), the Dirichlet heat
-                        (k_qdir, the heat fix reads it when it needs it),
-                        the thermal limit (the heat fix's dt slot)
+     final_integrate    one reduction: the hooks before the corrector,
+                        corrector, radial return, plastic heat, the hooks
+                        after the corrector, and the sums into device
+                        views: plastic work and this rank's Courant limit
+                        (k_dtlim), the hooks' values through their final
+                        (their own accumulators and dt slots)
      end_of_step        every dtevery-th step: that view with the attached
                         styles' dt slots to the host (the one host round
                         trip), the new dt (one MPI_Allreduce); the plastic
                         work stays summed on the device between; the state
                         to the host only on output steps
+   The hooks (sphcut_hooks_kokkos.h) are the other /kk styles' per-particle
+   work in these kernels: each style takes its slot in its init
+   (sphcut::HookHost::set_hook) and fills it, when this fix builds a kernel,
+   from its arm callback; this fix calls them at fixed points without knowing
+   what they do (which style holds which slot: that header).  No style runs a
+   kernel of its own for them, and none costs a pass over the state rows.
    Where nothing reads v, the state or the corrector's sums before the next
    step (no dt, output or other fix's end_of_step step, not the run's last:
    defers_corrector), final_integrate leaves its reduction to the next
@@ -54,7 +54,6 @@
 ------------------------------------------------------------------------- */
 
 #include "fix_sph_jc_thermal_kokkos.h"
-#include "pair_sph_jc_thermal_kokkos.h"
 
 #include "atom_kokkos.h"
 #include "atom_masks.h"
@@ -76,7 +75,6 @@
 #include "sphcut_compat.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_solid.h"
-#include "sphcut_thermal.h"
 
 #include <algorithm>
 #include <cstring>
@@ -91,10 +89,10 @@ namespace {
    operator()(team): sphcut::stage_in / stage_out).  The rates are zeroed here, after the
    predictor has saved them (DRHO_O, ...), instead of in a kernel of their own at pre_force: one
    launch fewer on steps without reneighbouring (pre_force zeroes them again where atoms may have
-   moved, been exchanged or created).  The pair's rows of the particles are packed here too, from
-   what this kernel just wrote (prepack_allowed): the pair's stress pass then packs only the
-   ghosts.  zero_f: the forces of every local particle zeroed after the half kick has read them
-   (clear_f_active: LAMMPS' force clear of this step skipped, external_force_clear)            */
+   moved, been exchanged or created).  Then the hooks after the first half (sphcut_hooks_kokkos.h),
+   on the row this kernel just wrote.  zero_f: the forces of every local particle zeroed after the
+   half kick has read them (clear_f_active: LAMMPS' force clear of this step skipped,
+   external_force_clear)                                                                        */
 template <class DeviceType> struct FirstHalf {
   typedef DeviceType device_type;
   typedef ArrayTypes<DeviceType> AT;
@@ -105,23 +103,20 @@ template <class DeviceType> struct FirstHalf {
   typename sphcut::AtomTypes<DeviceType>::scalar_const rmass, mass;
   typename AT::t_double_2d state;
   Kokkos::View<const sphcut::Material *, typename DeviceType::memory_space> mat;
-  // an attached heat style's Dirichlet groups (set_heat_rules): their predicted temperature here,
-  // after the predictor, instead of in a kernel of the style's own
-  Kokkos::View<const int *, typename DeviceType::memory_space> dbit;
-  Kokkos::View<const double *, typename DeviceType::memory_space> dtemp;
-  int groupbit, toolbit, clampbit, use_rmass, zero_f, hgb, nd, n;
+  int groupbit, toolbit, clampbit, use_rmass, zero_f, n;
   double dt, dtf;
-  sphcut::RowPacker<DeviceType> packer;
+  sphcut::FirstHalfHooks<DeviceType> hooks;
 
   KOKKOS_INLINE_FUNCTION void particle(const int i, double *s) const
   {
-    if (mask(i) & groupbit) {
+    const int mi = mask(i);
+    if (mi & groupbit) {
       const int t = type(i);
       const double m = use_rmass ? rmass(i) : mass(t);
       double xi[3] = {x(i, 0), x(i, 1), x(i, 2)};
       double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
       const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
-      sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mask(i), toolbit, clampbit), dt, dtf / m, xi, vi, fi, s);
+      sphcut::integrate_first_half(mat(t), sphcut::role_from_mask(mi, toolbit, clampbit), dt, dtf / m, xi, vi, fi, s);
       for (int d = 0; d < 3; d++) {
         x(i, d) = xi[d];
         v(i, d) = vi[d];
@@ -130,8 +125,7 @@ template <class DeviceType> struct FirstHalf {
     if (zero_f)
       for (int d = 0; d < 3; d++) f(i, d) = 0.0;
     sphcut::zero_rates(s);
-    if (nd) sphcut::hold_predicted_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, s);
-    if (packer.active) packer(i, s);
+    hooks.after_first_half(i, mi, s);
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i) const { particle(i, &state(i, 0)); }
   KOKKOS_INLINE_FUNCTION void operator()(const typename Kokkos::TeamPolicy<DeviceType>::member_type &t) const
@@ -145,20 +139,17 @@ template <class DeviceType> struct FirstHalf {
   }
 };
 
-/* second half of the step with the two sums the host needs: the plastic
-   work of the step and this rank's Courant limit (computed from the final
-   v and T, as the CPU fix does at end_of_step); written into the device
-   view k_dtlim (STEP_WORK, STEP_DT) by final, no host round trip here.
-   With an attached heat style's rules (set_heat_rules) two more: right
-   after each particle's corrector its Dirichlet particles go back to their
-   group's temperature, the heat that takes summed (final adds it to the
-   accumulator k_qdir), and with an adaptive step the style's thermal dt
-   limit over its group (final writes it into the style's dt slot)       */
+/* second half of the step with the two sums the host needs: the plastic work of the step (WORK) and
+   this rank's Courant limit (DT, computed from the final v and T, as the CPU fix does at
+   end_of_step); written into the device view k_dtlim (STEP_WORK, STEP_DT) by final, no host round
+   trip here.  Each particle: the hooks before the corrector, its corrector, the hooks after it,
+   whose values (NVALUES of sphcut::CorrectorHooks) follow the two sums and go to the hooks' final */
 template <class DeviceType> struct SecondHalf {
   typedef DeviceType device_type;
   typedef double value_type[];
-  enum { WORK = 0, DT = 1, QDIR = 2, HEAT_DT = 3 };
-  const unsigned value_count = 4;
+  typedef sphcut::CorrectorHooks<DeviceType> Hooks;
+  enum { WORK = 0, DT = 1, NOWN = 2, NVAL = NOWN + Hooks::NVALUES };
+  const unsigned value_count = NVAL;
   typedef ArrayTypes<DeviceType> AT;
   typename sphcut::AtomTypes<DeviceType>::v v;
   typename sphcut::AtomTypes<DeviceType>::f_const f;
@@ -169,65 +160,45 @@ template <class DeviceType> struct SecondHalf {
   Kokkos::View<const double *, typename DeviceType::memory_space> h;
   int groupbit, toolbit, clampbit, use_rmass, want_dt;
   double dt, dtf, cfl, vmax, tmax;
-  // the heat rules after the corrector: the style's group, its nd Dirichlet groups (dbit, dtemp),
-  // want_lim: its thermal dt limit (Courant number F, sub-cycling every) into slot; qacc: the
-  // accumulator of the Dirichlet heat
-  Kokkos::View<const int *, typename DeviceType::memory_space> dbit;
-  Kokkos::View<const double *, typename DeviceType::memory_space> dtemp;
-  Kokkos::View<double *, typename DeviceType::memory_space> qacc;
-  typename AT::t_double_1d slot;
-  int hgb, nd, want_lim, every;
-  double F;
+  Hooks hooks;
 
+  // the minima among the values (sphcut::reduce's wide path; the others are sums)
+  KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return k == DT || (k >= NOWN && Hooks::is_min(k - NOWN)); }
   KOKKOS_INLINE_FUNCTION void init(value_type r) const
   {
-    sphcut::sum_min_init(&r[WORK]);
-    sphcut::sum_min_init(&r[QDIR]);
+    for (int k = 0; k < NVAL; k++) r[k] = is_min(k) ? 1.0e300 : 0.0;
   }
   KOKKOS_INLINE_FUNCTION void join(SPHCUT_KK_VOLATILE value_type d, const SPHCUT_KK_VOLATILE value_type s) const
   {
-    sphcut::sum_min_join(&d[WORK], &s[WORK]);
-    sphcut::sum_min_join(&d[QDIR], &s[QDIR]);
+    for (int k = 0; k < NVAL; k++) {
+      if (!is_min(k)) d[k] += s[k];
+      else if (s[k] < d[k]) d[k] = s[k];
+    }
   }
-  // the minima among the values (sphcut::reduce's wide path)
-  KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return k == DT || k == HEAT_DT; }
   // the plastic work accumulates on the device (the result's own element holds the sum so far):
-  // the host reads it only when it needs it (a dt step, an output), with no copy on other steps;
-  // the same for the Dirichlet heat in qacc
+  // the host reads it only when it needs it (a dt step, an output), with no copy on other steps
   Kokkos::View<double *, typename DeviceType::memory_space> result;
   KOKKOS_INLINE_FUNCTION void final(value_type r) const
   {
     result(FixSPHJCThermalKokkosBase::STEP_WORK) = r[WORK] + result(FixSPHJCThermalKokkosBase::STEP_WORK);
     result(FixSPHJCThermalKokkosBase::STEP_DT) = r[DT];
-    if (nd) qacc(0) += r[QDIR];
-    if (want_lim) slot(0) = r[HEAT_DT];
+    hooks.final(&r[NOWN]);
   }
-  // fix contact/tri-penalty/kk's tool-heat gather of this step (take_tool_heat_gather), if any
-  sphcut::ToolHeatGather<DeviceType> gather;
 
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const
+  KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const { row(i, &state(i, 0), r); }
+  // particle i on its state row s (in place or a staged copy: CorrectThenFirstHalf)
+  KOKKOS_INLINE_FUNCTION void row(const int i, double *s, value_type r) const
   {
-    if (gather.active) gather(i);    // a tool particle's share of the friction heat, before its corrector
-    particle(i, &state(i, 0), r);
-  }
-  // the corrector of particle i on its state row s (in place or a staged copy: CorrectThenFirstHalf)
-  KOKKOS_INLINE_FUNCTION void particle(const int i, double *s, value_type r) const
-  {
-    if (!(mask(i) & groupbit)) return;
+    const int mi = mask(i);
+    hooks.before_corrector(i, mi, s);
+    if (!(mi & groupbit)) return;
     const int t = type(i);
-    const int role = sphcut::role_from_mask(mask(i), toolbit, clampbit);
+    const int role = sphcut::role_from_mask(mi, toolbit, clampbit);
     const double m = use_rmass ? rmass(i) : mass(t);
     double vi[3] = {v(i, 0), v(i, 1), v(i, 2)};
     const double fi[3] = {f(i, 0), f(i, 1), f(i, 2)};
-    if (mask(i) & hgb) sphcut::add_held_rate(s);    // an attached heat style's held rate
     r[WORK] += sphcut::integrate_second_half(mat(t), role, dt, dtf / m, m, vi, fi, s);
-    // the heat style's Dirichlet groups back to their temperature, and its thermal dt limit (its
-    // group lies inside this fix's: FixSPHJCThermal::require)
-    if (nd) r[QDIR] += sphcut::hold_corrected_temperature(mask(i), hgb, &dbit(0), &dtemp(0), nd, m * mat(t).cp, s);
-    if (want_lim && (mask(i) & hgb)) {
-      const double d = sphcut::thermal_dt_limit(s[FixSPHJCThermal::RHO], mat(t).cp, mat(t).kappa, h(t), F, every);
-      if (d < r[HEAT_DT]) r[HEAT_DT] = d;
-    }
+    hooks.after_corrector(i, mi, t, m, mat(t), s, &r[NOWN]);
     for (int d = 0; d < 3; d++) v(i, d) = vi[d];
     if (want_dt) {
       const double d = sphcut::particle_dt(mat(t), role, h(t), vi, s[FixSPHJCThermal::TEMP], cfl, vmax, tmax);
@@ -239,16 +210,16 @@ template <class DeviceType> struct SecondHalf {
 /* the corrector of the step before (SecondHalf, left pending by that step's final_integrate:
    FixSPHJCThermalKokkos::defers_corrector) and the first half of this step (FirstHalf) in one pass,
    each particle's row read and written once: its corrector, then its kick, drift and predictor
-   from the same forces.  Each reads only its own particle's data, but for the tool-heat gather of
-   the step before (a tool particle's share of its contact neighbours' heat, before its corrector),
-   which reads their heat and local positions as the contact kernel left them (the qtw rows), not
-   the x that their threads drift here; so the order within a particle is the whole order: the same
-   arithmetic as the two kernels.  The reduction is the corrector's (its sums; no dt limits: a step
-   whose limits the host reads is never deferred)                                              */
+   from the same forces.  Each reads only its own particle's data, and a hook that reads other
+   particles' reads none that this kernel writes (sphcut_hooks_kokkos.h); so the order within a
+   particle is the whole order: the same arithmetic as the two kernels.  The
+   reduction is the corrector's (its sums; no dt limits: a step whose limits the host reads is never
+   deferred)                                                                                     */
 template <class DeviceType> struct CorrectThenFirstHalf {
   typedef DeviceType device_type;
   typedef double value_type[];
-  const unsigned value_count = 4;
+  enum { NVAL = SecondHalf<DeviceType>::NVAL };
+  const unsigned value_count = NVAL;
   SecondHalf<DeviceType> c;
   FirstHalf<DeviceType> p;
   KOKKOS_INLINE_FUNCTION void init(value_type r) const { c.init(r); }
@@ -257,8 +228,7 @@ template <class DeviceType> struct CorrectThenFirstHalf {
   KOKKOS_INLINE_FUNCTION void final(value_type r) const { c.final(r); }
   KOKKOS_INLINE_FUNCTION void row(const int i, double *s, value_type r) const
   {
-    if (c.gather.active) c.gather(i, s);
-    c.particle(i, s, r);
+    c.row(i, s, r);
     p.particle(i, s);
   }
   KOKKOS_INLINE_FUNCTION void operator()(const int i, value_type r) const { row(i, &p.state(i, 0), r); }
@@ -270,7 +240,8 @@ template <class DeviceType> struct CorrectThenFirstHalf {
    every backend                                                                                  */
 template <class DeviceType> struct CorrectThenFirstHalfStaged {
   typedef DeviceType device_type;
-  sphcut::WideReduce<DeviceType, 4, CorrectThenFirstHalf<DeviceType>> w;
+  enum { NVAL = CorrectThenFirstHalf<DeviceType>::NVAL };
+  sphcut::WideReduce<DeviceType, NVAL, CorrectThenFirstHalf<DeviceType>> w;
   KOKKOS_INLINE_FUNCTION void operator()(const typename Kokkos::TeamPolicy<DeviceType>::member_type &t) const
   {
     const auto &k = w.f;
@@ -278,11 +249,11 @@ template <class DeviceType> struct CorrectThenFirstHalfStaged {
     const int cnt = w.end - first < sphcut::STAGE_ROWS ? w.end - first : sphcut::STAGE_ROWS;
     double *sh = sphcut::stage_in(t, k.p.state, first, cnt);
     const int ncol = (int) k.p.state.extent(1);
-    double r[4];
+    double r[NVAL];
     k.init(r);
     for (int l = t.team_rank(); l < cnt; l += t.team_size()) k.row(first + l, sh + l * ncol, r);
     sphcut::stage_out(t, k.p.state, first, cnt, sh);
-    for (int q = 0; q < 4; q++) {
+    for (int q = 0; q < NVAL; q++) {
       if (k.is_min(q)) t.team_reduce(Kokkos::Min<double>(r[q]));
       else t.team_reduce(Kokkos::Sum<double>(r[q]));
     }
@@ -318,10 +289,7 @@ FixSPHJCThermalKokkos<DeviceType>::FixSPHJCThermalKokkos(LAMMPS *lmp, int narg, 
   k_dtlim.view_host()(STEP_DT) = 1.0e300;
   k_dtlim.modify_host();
   k_dtlim.template sync<DeviceType>();
-  k_qdir = DAT::tdual_double_1d("sph/jc-thermal:qdir", 1);
-  k_qdir.view_host()(0) = 0.0;
-  k_qdir.modify_host();
-  k_qdir.template sync<DeviceType>();
+  hook_type = &typeid(sphcut::IntegratorHooks<DeviceType>);    // (set_hook: the styles on this device type)
 }
 
 /* an attached style gets a slot of k_dtlim for its dt limit, once: a style attached again (each
@@ -344,16 +312,19 @@ void FixSPHJCThermalKokkosBase::attach(sphcut::AttachedStyle *style)
   k_dtlim = grown;
 }
 
-// the Dirichlet heat final_integrate summed on the device since the heat style last took it
-bool FixSPHJCThermalKokkosBase::take_dirichlet_heat(double &q)
+// a hook's owner that still exists keeps its slot (sphcut::HookHost::set_hook)
+bool FixSPHJCThermalKokkosBase::hook_owner_alive(const sphcut::AttachedStyle *owner) const
 {
-  if (!qdir_pending) return false;
-  qdir_pending = 0;
-  k_qdir.sync_host();
-  q = k_qdir.view_host()(0);
-  k_qdir.view_host()(0) = 0.0;
-  k_qdir.modify_host();
-  return true;
+  for (auto *st : live_styles())
+    if (st == owner) return true;
+  return false;
+}
+
+// at each setup: the attached styles and the hooks of those deleted since
+void FixSPHJCThermalKokkosBase::prune_attached()
+{
+  FixSPHJCThermal::prune_attached();
+  prune_hooks(live_styles());
 }
 
 // the minimum of this step's limits that the attached styles hold in their slots (host copy of
@@ -404,8 +375,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   FixSPHJCThermal::init();
   if (!force->pair_match("^sph/jc-thermal", 0)->kokkosable)
     error->all(FLERR, "Fix sph/jc-thermal/kk requires pair_style sph/jc-thermal/kk (run with -sf kk)");
-  pairkk = dynamic_cast<PairSPHJCThermalKokkos<DeviceType> *>(force->pair_match("^sph/jc-thermal", 0));
-  prepack = pairkk && prepack_allowed();
+  kept_to_force = others_keep_out(false);
   clear_f = force_clear_allowed();
   // the first-half kernel on staged rows (staged(): by size on a GPU; SPHCUT_STAGE_ROWS 0 or 1
   // forces, 2 stages in teams of 2 threads on a host backend: the tests of the staged kernels'
@@ -455,17 +425,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::init()
   atomKK->k_mass.modify<LMPHostType>();
   atomKK->k_mass.sync<DeviceType>();
   upload_tables();
-}
-
-// the Dirichlet table of the heat rules to the device (one element more: never empty)
-template <class DeviceType>
-void FixSPHJCThermalKokkos<DeviceType>::set_heat_rules(const sphcut::AttachedStyle *owner, int gb,
-                                                       const std::vector<int> &bits,
-                                                       const std::vector<double> &temps, int every, double *qdir)
-{
-  FixSPHJCThermal::set_heat_rules(owner, gb, bits, temps, every, qdir);
-  heat_slot_step = -1;
-  sphcut::dirichlet_to_device<DeviceType>(bits, temps, "sph/jc-thermal", d_dirbit, d_dirtemp);
 }
 
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::upload_tables()
@@ -633,11 +592,7 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   FirstHalf<DeviceType> k;
   integrator_views(k);
   k.x = atomKK->k_x.view<DeviceType>();
-  k.dbit = d_dirbit;
-  k.dtemp = d_dirtemp;
-  k.hgb = heat_rules.gb;
-  k.nd = (int) heat_rules.bits.size();
-  if (prepack) k.packer = pairkk->packer_for_fix();
+  k.hooks = arm_hooks<DeviceType>({sphcut::HookCall::FIRST_HALF, update->ntimestep, 0, kept_to_force}).first_half;
   const int zero_f = k.zero_f = clear_f_active;
   k.n = atom->nlocal;
   if (corrector_pending) {
@@ -648,12 +603,12 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
     corrector_views(c.c, false);
     if (staged(k.n) && k.n > 0) {
       const CorrectThenFirstHalfStaged<DeviceType> w{
-          sphcut::wide_reducer<DeviceType, 4>("sphcut:sph:final_integrate", k.n, c, d_second_acc)};
+          sphcut::wide_reducer<DeviceType, CorrectThenFirstHalf<DeviceType>::NVAL>("sphcut:sph:final_integrate", k.n, c, d_second_acc)};
       Kokkos::parallel_for("sphcut:sph:correct_then_first_half_staged",
                            sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1), host_team), w);
     } else
-      sphcut::reduce<DeviceType, 4>("sphcut:sph:correct_then_first_half", k.n, c, wide, d_second, d_second_acc);
-    corrector_done(c.c);
+      sphcut::reduce<DeviceType, CorrectThenFirstHalf<DeviceType>::NVAL>("sphcut:sph:correct_then_first_half", k.n, c, wide, d_second, d_second_acc);
+    corrector_done();
   } else if (staged(k.n))
     Kokkos::parallel_for("sphcut:sph:initial_integrate_staged",
                          sphcut::stage_policy<DeviceType>(k.n, (int) k.state.extent(1), host_team), k);
@@ -662,7 +617,6 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::initial_inte
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, datamask_modify | (zero_f ? F_MASK : 0));
   rates_zeroed_step = update->ntimestep;
-  if (k.packer.active) pairkk->rows_prepacked(update->ntimestep);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -714,8 +668,8 @@ void FixSPHJCThermalKokkos<DeviceType>::SPHCUT_KK_FIX_UNPACK_FORWARD(int n, int 
 
 /* the corrector's kernel arguments (SecondHalf): now, those of this step's final_integrate; else
    those of the corrector the step before left pending (defers_corrector), run with this step's
-   first half (initial_integrate) or alone (settle_corrector): that step's dt, no dt limits, no
-   tool-heat gather but that step's (pending_gather) */
+   first half (initial_integrate) or alone (settle_corrector): that step's dt, no dt limits, the
+   hooks armed for that step (pending_step) */
 template <class DeviceType> template <class K> void FixSPHJCThermalKokkos<DeviceType>::corrector_views(K &k, bool now)
 {
   integrator_views(k);
@@ -728,42 +682,20 @@ template <class DeviceType> template <class K> void FixSPHJCThermalKokkos<Device
   k.cfl = cfl;
   k.vmax = vmax;
   k.tmax = tmax;
-  // the heat rules after the corrector (set_heat_rules): the Dirichlet groups and the heat style's
-  // thermal dt limit into its slot (when the step is adaptive and the slot is this fix's)
-  const sphcut::AttachedStyle *hs = heat_rules.owner;
-  k.dbit = d_dirbit;
-  k.dtemp = d_dirtemp;
-  k.hgb = heat_rules.gb;
-  k.nd = (int) heat_rules.bits.size();
-  k.want_lim = now && cfl > 0.0 && hs && hs->dt_slot >= 0 && hs->dt_slot < (int) slot_owner.size() &&
-      slot_owner[hs->dt_slot] == hs;
-  k.every = heat_rules.every;
-  k.F = thermal_cfl;
+  // into the device views (no fence): final writes the sums into k_dtlim (and the hooks' final into
+  // theirs: a style's dt slot is in k_dtlim too); end_of_step reads k_dtlim with the styles' slots
   k_dtlim.template sync<DeviceType>();
-  if (k.want_lim) k.slot = dt_slot_view<DeviceType>(hs);
-  if (k.nd) k_qdir.template sync<DeviceType>();
-  k.qacc = k_qdir.template view<DeviceType>();
-  // into the device views (no fence): final writes the sums into k_dtlim, the heat style's slot
-  // and k_qdir; end_of_step reads k_dtlim with the styles' slots
   k.result = k_dtlim.template view<DeviceType>();
-  if (now ? gather_step == update->ntimestep : pending_gather) k.gather = gather;
-  gather_step = -1;    // used once (a reset_timestep cannot bring it back)
-  if (!now) pending_gather = 0;
-  if (d_second.extent(0) != 4) d_second = Kokkos::View<double *, typename DeviceType::memory_space>("sph:second", 4);
+  k.hooks = arm_hooks<DeviceType>({sphcut::HookCall::CORRECTOR, now ? update->ntimestep : pending_step,
+                                   k.want_dt, kept_to_force}).corrector;
+  if ((int) d_second.extent(0) != K::NVAL)
+    d_second = Kokkos::View<double *, typename DeviceType::memory_space>("sph:second", K::NVAL);
 }
 
-// what the corrector's kernel (k, from corrector_views) modified
-template <class DeviceType> template <class K> void FixSPHJCThermalKokkos<DeviceType>::corrector_done(const K &k)
+// what the corrector's kernel modified (the hooks' owners mark their own views in their arms)
+template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::corrector_done()
 {
   k_dtlim.template modify<DeviceType>();
-  if (k.nd) {
-    k_qdir.template modify<DeviceType>();
-    qdir_pending = 1;
-  }
-  if (k.want_lim) {
-    heat_slot_step = update->ntimestep;
-    heat_slot_F = thermal_cfl;
-  }
   k_state.template modify<DeviceType>();
   atomKK->modified(execution_space, V_MASK);
 }
@@ -773,12 +705,11 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::final_integr
   sphcut::FencedTimer timer(cpu_time);
   if (defers_corrector()) {
     // the next step's initial_integrate runs this corrector in its kernel (the same dt: a step
-    // that changes it is not deferred), with the tool-heat gather of this step if one was taken
+    // that changes it is not deferred), with the hooks of this step (HookCall::step)
     corrector_pending = 1;
+    pending_step = update->ntimestep;
     pending_dt = dtv;
     pending_dtf = dtf;
-    pending_gather = gather_step == update->ntimestep;
-    gather_step = -1;
     return;
   }
   corrector(true);
@@ -791,8 +722,8 @@ template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::corrector(bo
   k_state.template sync<DeviceType>();
   SecondHalf<DeviceType> k;
   corrector_views(k, now);
-  sphcut::reduce<DeviceType, 4>("sphcut:sph:final_integrate", atom->nlocal, k, wide, d_second, d_second_acc);
-  corrector_done(k);
+  sphcut::reduce<DeviceType, SecondHalf<DeviceType>::NVAL>("sphcut:sph:final_integrate", atom->nlocal, k, wide, d_second, d_second_acc);
+  corrector_done();
 }
 
 /* the corrector left pending (defers_corrector) now, in a kernel of its own: before anything reads
@@ -846,9 +777,11 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::fuse_allowed
 }
 
 /* whether the other fixes leave the atoms' data alone between this fix's initial_integrate and
-   the pair: no fix of another kind (the sphcut styles attached to this fix touch none of it) has
+   the forces: no fix of another kind (the sphcut styles attached to this fix touch none of it) has
    post_integrate, initial_integrate after this one, or pre_force (any; with before_only, one
-   before this one) */
+   before this one).  Without before_only: what a hook after the first half wrote from the atoms'
+   data (packed rows) stays valid until the forces (HookCall::kept_to_force; a step with
+   reneighbouring, where the atoms may move in the arrays, is the hook owner's to handle) */
 template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::others_keep_out(bool before_only) const
 {
   int self = -1;
@@ -865,15 +798,6 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::others_keep_
       return false;
   }
   return true;
-}
-
-/* the pair's rows of the local particles may be packed in initial_integrate when nothing changes
-   what they hold (positions, VEST, RHO_F, TEMP_F, SF, mask, type, mass) between that kernel and
-   the pair (others_keep_out; a step with reneighbouring, where the atoms may move in the arrays,
-   the pair packs in full anyway) */
-template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::prepack_allowed() const
-{
-  return others_keep_out(false);
 }
 
 /* this fix may zero the forces itself (clear_f), in initial_integrate after the half kick and in
@@ -894,31 +818,11 @@ template <class DeviceType> bool FixSPHJCThermalKokkos<DeviceType>::force_clear_
   return others_keep_out(true);
 }
 
-/* fix contact/tri-penalty/kk's tool-heat gather (sphcut_tool_heat_kokkos.h) of this step, applied by
-   the corrector's kernel (final_integrate's, or the next step's first-half kernel where the
-   corrector waits for it) to each particle before its corrector instead of in a kernel of the
-   contact fix: its heat joins DTEMP before the held rate, in the order the separate kernel gave.
-   The contact fix hands it over in post_force (after its contact kernel and the ghosts' qtw), which
-   LAMMPS calls before final_integrate in every step; not at a setup (no final_integrate follows).
-   One gather a step: false when another style's holds this step (that one runs its own kernel). */
-template <class DeviceType>
-bool FixSPHJCThermalKokkos<DeviceType>::take_tool_heat_gather(const void *owner,
-                                                              const sphcut::ToolHeatGather<DeviceType> &g)
-{
-  if (update->setupflag) return false;
-  if (gather_step == update->ntimestep && gather_owner != owner) return false;
-  gather = g;
-  gather.active = 1;
-  gather_step = update->ntimestep;
-  gather_owner = owner;
-  return true;
-}
-
 template <class DeviceType> void FixSPHJCThermalKokkos<DeviceType>::end_of_step()
 {
   sphcut::FencedTimer timer(cpu_time);
   // on a dt step (every dtevery-th) the Courant limit and the styles' slots (written by their
-  // kernels this step; the heat fix's after this fix's final_integrate) to the host: the step's one
+  // kernels this step, or by their hooks in this fix's final_integrate) to the host: the step's one
   // host round trip.  Between dt steps none: the plastic work stays on the device (fetch_work)
   if (cfl > 0.0 && dt_step()) {
     fetch_work();

@@ -20,23 +20,26 @@ FixStyle(sph/jc-thermal/kk/host,FixSPHJCThermalKokkos<LMPHostType>);
 #include "fix_sph_jc_thermal.h"
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_hooks_kokkos.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_material.h"
 #include "sphcut_migrate_kokkos.h"
-#include "sphcut_tool_heat_kokkos.h"
 
 #include <utility>
 #include <vector>
 
 namespace LAMMPS_NS {
 
-template <class DeviceType> class PairSPHJCThermalKokkos;
-
-// what the /kk pair needs of the fix, whatever device type the fix was built for
-class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
+// what the other /kk styles need of the fix, whatever device type the fix was built for: the state
+// on the device (sphcut::KokkosStateOwner::k_state, whose host view is FixSPHJCThermal::state), the
+// hooks they hand to its kernels (sphcut::HookHost::set_hook, sphcut_hooks_kokkos.h) and their dt
+// slots
+class FixSPHJCThermalKokkosBase : public FixSPHJCThermal,
+                                  public KokkosBase,
+                                  public sphcut::KokkosStateOwner,
+                                  public sphcut::HookHost {
  public:
   FixSPHJCThermalKokkosBase(class LAMMPS *lmp, int narg, char **arg) : FixSPHJCThermal(lmp, narg, arg) {}
-  DAT::tdual_double_2d k_state;    // host view = FixSPHJCThermal::state
   // what the host reads of a step, once, at end_of_step (the one host round trip of a step):
   // STEP_WORK the plastic work of the step and STEP_DT this rank's Courant limit, both from
   // final_integrate's reduction; from SLOT0 on one slot per attached style (its dt_slot, given at
@@ -52,24 +55,21 @@ class FixSPHJCThermalKokkosBase : public FixSPHJCThermal, public KokkosBase {
     const int k = SLOT0 + st->dt_slot;
     return Kokkos::subview(k_dtlim.template view<DT>(), std::make_pair(k, k + 1));
   }
+  // whether st's dt_slot is a slot of this fix's k_dtlim (it attached to this fix)
+  bool holds_slot(const sphcut::AttachedStyle *st) const
+  {
+    return st->dt_slot >= 0 && st->dt_slot < (int) slot_owner.size() && slot_owner[st->dt_slot] == st;
+  }
   double courant() const { return cfl; }
   double thermal_courant() const { return thermal_cfl; }
-  // an attached heat style's rules after the corrector (set_heat_rules), applied in
-  // final_integrate's reduction: the heat its Dirichlet groups took since the style last took it
-  // (k_qdir(0), summed on the device, no host copy per step; take_dirichlet_heat: false when none
-  // was added since, else the heat into q and the accumulator zeroed), and the step and thermal
-  // Courant number of the thermal dt limit the reduction last wrote into the style's dt slot
-  DAT::tdual_double_1d k_qdir;
-  int qdir_pending = 0;
-  bool take_dirichlet_heat(double &q);
-  bigint heat_slot_step = -1;
-  double heat_slot_F = 0.0;
   // FixSPHJCThermal::attach, and a slot of k_dtlim for the style
   void attach(sphcut::AttachedStyle *style) override;
 
  protected:
   std::vector<const sphcut::AttachedStyle *> slot_owner;    // the style of each slot (never reused)
   double device_limits();    // this step's limits of the attached styles that hold them in their slots
+  bool hook_owner_alive(const sphcut::AttachedStyle *owner) const override;
+  void prune_attached() override;    // (and the hooks of the styles deleted since)
 };
 
 template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermalKokkosBase {
@@ -130,9 +130,6 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   }
   void check_close_pairs() override;
   void report_runaway() override;
-  // the heat rules on the device too (the Dirichlet table: d_dirbit, d_dirtemp)
-  void set_heat_rules(const sphcut::AttachedStyle *, int, const std::vector<int> &,
-                      const std::vector<double> &, int, double *) override;
 
   // the state follows its atoms by tag on the device, on any number of ranks (no host
   // exchange, see .cpp; keyword migrate device)
@@ -142,13 +139,11 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   void remap_state();
   void report_migration();
   void *extract(const char *, int &) override;
-  // fix contact/tri-penalty/kk's tool-heat gather of this step into final_integrate's kernel (.cpp)
-  bool take_tool_heat_gather(const void *owner, const sphcut::ToolHeatGather<DeviceType> &g);
 
  protected:
-  PairSPHJCThermalKokkos<DeviceType> *pairkk = nullptr;    // the pair on this device type (init)
-  int prepack = 0;    // its local rows packed in initial_integrate (init: prepack_allowed)
-  bool prepack_allowed() const;
+  // no other fix changes the atoms' data between initial_integrate's kernel and the forces
+  // (init: others_keep_out; sphcut::HookCall::kept_to_force)
+  int kept_to_force = 0;
   bool others_keep_out(bool before_only) const;
   // the forces zeroed in initial_integrate's kernel, after the half kick has read them, and in
   // pre_force's after a reneighbouring, instead of LAMMPS' own launch (Verlet's external_force_clear,
@@ -167,22 +162,20 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   template <class K> void integrator_views(K &k);    // (.cpp: FirstHalf, SecondHalf)
   // a step's corrector in the next step's first-half kernel (.cpp, defers_corrector): fuse (init:
   // fuse_allowed), the fixes whose end_of_step steps keep their corrector
-  // (fuse_watch), the step asked last and its answer, the corrector left pending and its dt
+  // (fuse_watch), the step asked last and its answer, the corrector left pending, its step and dt
   int fuse = 0;
   std::vector<const Fix *> fuse_watch;
   bigint defer_step = -1;
   bool defer_now = false;
-  int corrector_pending = 0, pending_gather = 0;    // (and the tool-heat gather taken that step: gather)
+  int corrector_pending = 0;
+  bigint pending_step = -1;
   double pending_dt = 0.0, pending_dtf = 0.0;
   bool fuse_allowed();
   bool defers_corrector();
   void corrector(bool now);
   void settle_corrector();
   template <class K> void corrector_views(K &k, bool now);
-  template <class K> void corrector_done(const K &k);
-  sphcut::ToolHeatGather<DeviceType> gather;    // the gather taken this step (gather_step), its style
-  bigint gather_step = -1;
-  const void *gather_owner = nullptr;
+  void corrector_done();
   sphcut::StagedColumns<DeviceType> stage_state;    // the force state's rows on the classic forward
                                                     // communication; the output columns (sync_outputs_host)
   bigint rates_zeroed_step = -1;    // step whose initial_integrate zeroed the rates (pre_force skips its kernel)
@@ -192,10 +185,8 @@ template <class DeviceType> class FixSPHJCThermalKokkos : public FixSPHJCThermal
   tagint *rowtag;
   sphcut::RowMigration<DeviceType> mig;    // the remap's tables, buffers and counters
   void grow_on_device(int n);
-  t_mat d_mat;                 // materials per type (device copy of the pair's)
+  t_mat d_mat;                 // materials per type (device copy of the model's)
   t_h d_h;                     // smoothing length per type
-  Kokkos::View<int *, typename DeviceType::memory_space> d_dirbit;       // heat_rules.bits on the device
-  Kokkos::View<double *, typename DeviceType::memory_space> d_dirtemp;   // heat_rules.temps
   Kokkos::View<double *, typename DeviceType::memory_space> d_second;    // final_integrate's reduction (its final
                                                                          // writes the sums where they go)
   Kokkos::View<double *, typename DeviceType::memory_space> d_second_acc;    // its accumulator on the wide path

@@ -9,7 +9,6 @@
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
-#include "fix_sph_jc_thermal_kokkos.h"
 #include "force.h"
 #include "kokkos.h"
 #include "memory_kokkos.h"
@@ -20,6 +19,7 @@
 #include "update.h"
 
 #include "sphcut_compat.h"
+#include "sphcut_hooks_kokkos.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_pair.h"
 
@@ -121,7 +121,7 @@ template <class DeviceType> struct AtomicAdd {
 template <class DeviceType>
 PairSPHJCThermalKokkos<DeviceType>::PairSPHJCThermalKokkos(LAMMPS *lmp) :
     PairSPHJCThermal(sphcut::require_kokkos(lmp, "Pair sph/jc-thermal/kk")), neighflag(FULL), nmax_kk(0),
-    fixkk(nullptr), tables_ready(0), prefetch(1)
+    statekk(nullptr), tables_ready(0), prefetch(1)
 {
   kokkosable = 1;
   atomKK = (AtomKokkos *) atom;
@@ -143,9 +143,17 @@ template <class DeviceType> PairSPHJCThermalKokkos<DeviceType>::~PairSPHJCTherma
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::init_style()
 {
   PairSPHJCThermal::init_style();
-  fixkk = dynamic_cast<FixSPHJCThermalKokkosBase *>(fix);
-  if (!fixkk)
+  statekk = dynamic_cast<sphcut::KokkosStateOwner *>(fix);
+  if (!statekk)
     error->all(FLERR, "Pair sph/jc-thermal/kk requires fix sph/jc-thermal/kk (run with -sf kk)");
+  // the local rows packed by this pair's hook in the integrator's first-half kernel (where the
+  // integrator runs on this device type: else the stress pass packs every row)
+  prepacked_step = -1;
+  if (auto *host = dynamic_cast<sphcut::HookHost *>(fix)) {
+    const sphcut::HookArm<DeviceType> arm = [this](sphcut::IntegratorHooks<DeviceType> &h,
+                                                   const sphcut::HookCall &c) { arm_hook(h, c); };
+    host->set_hook<DeviceType>(this, sphcut::HOOK_ROWS, arm);
+  }
   prefetch = sphcut::load_ahead<DeviceType>(lmp, "Pair sph/jc-thermal/kk");
   // fix property/atom rmass keeps the per-atom mass on the host only in this LAMMPS version
   if (atom->rmass_flag && atomKK->k_rmass.view_host().data() != atom->rmass)
@@ -189,7 +197,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
   const int dim = domain->dimension;
   const int any_as = mdl.any_artificial_stress();
   const int pk_cols = sphcut::pack_width(any_as);
-  // the local rows packed by the fix this step (packer_for_fix) stand unless the lists were rebuilt
+  // the local rows packed by the hook this step (arm_hook) stand unless the lists were rebuilt
   // since (the atoms may have moved in the arrays) or the rows are reallocated
   int first = prepacked_step == update->ntimestep && !update->setupflag && neighbor->ago != 0 ? atom->nlocal : 0;
   prepacked_step = -1;
@@ -209,7 +217,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     memoryKK->destroy_kokkos(k_lgrad);
     k_lgrad = DAT::tdual_double_2d("pair:lgrad", nmax_kk, 9);
   }
-  fixkk->k_state.template sync<DeviceType>();
+  statekk->k_state.template sync<DeviceType>();
   stress_pass(first, nall, any_as);
   const int inum = list->inum;
   if (neighflag == FULL) {
@@ -260,7 +268,7 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::compute(int
     }
     rates_pass(nlocal);
   }
-  fixkk->k_state.template modify<DeviceType>();
+  statekk->k_state.template modify<DeviceType>();
 
   if (vflag_fdotr) {
     // half lists only (fdotr is not valid for a full list)
@@ -282,7 +290,7 @@ template <class DeviceType> sphcut::RowPacker<DeviceType> PairSPHJCThermalKokkos
   sphcut::RowPacker<DeviceType> p;
   p.pk = d_pack;
   p.mt = d_mat;
-  p.av = sphcut::atom_views<DeviceType>(atomKK, fixkk->k_state);
+  p.av = sphcut::atom_views<DeviceType>(atomKK, statekk->k_state);
   p.gb = fix->solidbit;
   p.tb = fix->toolbit;
   p.cb = fix->clampbit;
@@ -300,14 +308,24 @@ template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::stress_pass
                        KOKKOS_LAMBDA(const int i) { p(i); });
 }
 
-// the packer fix sph/jc-thermal/kk runs in its first-half kernel (active 0 where this compute
-// would reallocate the rows or has none yet)
-template <class DeviceType> sphcut::RowPacker<DeviceType> PairSPHJCThermalKokkos<DeviceType>::packer_for_fix()
+// the packer of the hook after the first half (active 0 where this compute would reallocate the rows
+// or has none yet)
+template <class DeviceType> sphcut::RowPacker<DeviceType> PairSPHJCThermalKokkos<DeviceType>::hook_packer()
 {
   const int any_as = mdl.any_artificial_stress();
   sphcut::RowPacker<DeviceType> p = row_packer(any_as);
   p.active = tables_ready && !update->setupflag && rows_fit(sphcut::pack_width(any_as));
   return p;
+}
+
+// this pair's hook for a pass of the integrator: after the first half, where nothing changes what
+// the rows hold before the forces (kept_to_force), the local rows packed; the step remembered
+template <class DeviceType>
+void PairSPHJCThermalKokkos<DeviceType>::arm_hook(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c)
+{
+  if (c.pass != sphcut::HookCall::FIRST_HALF || !c.kept_to_force) return;
+  h.first_half.rows = hook_packer();
+  if (h.first_half.rows.active) prepacked_step = c.step;
 }
 
 // whether the packed rows hold every atom at this width (compute reallocates them where not)
@@ -398,7 +416,7 @@ typename PairSPHJCThermalKokkos<DeviceType>::NeighViews PairSPHJCThermalKokkos<D
 {
   auto *kl = static_cast<NeighListKokkos<DeviceType> *>(list);
   return {atomKK->k_f.view<DeviceType>(), atomKK->k_type.view<DeviceType>(),
-          fixkk->k_state.template view<DeviceType>(), d_pack, d_mat, d_tpair,
+          statekk->k_state.template view<DeviceType>(), d_pack, d_mat, d_tpair,
           kl->d_neighbors, kl->d_numneigh, kl->d_ilist, k_lgrad.template view<DeviceType>()};
 }
 
@@ -536,7 +554,7 @@ void PairSPHJCThermalKokkos<DeviceType>::unpack_forward_comm_kokkos(int n, int f
 template <class DeviceType> void PairSPHJCThermalKokkos<DeviceType>::rates_pass(int nlocal)
 {
   auto type = atomKK->k_type.view<DeviceType>();
-  auto st = fixkk->k_state.template view<DeviceType>();
+  auto st = statekk->k_state.template view<DeviceType>();
   auto pk = d_pack;
   auto accv = k_acc.template view<DeviceType>();
   auto mt = d_mat;

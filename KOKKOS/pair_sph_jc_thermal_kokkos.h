@@ -23,41 +23,14 @@ PairStyle(sph/jc-thermal/kk/host,PairSPHJCThermalKokkos<LMPHostType>);
 
 #include "kokkos_base.h"
 #include "kokkos_type.h"
+#include "sphcut_hooks_kokkos.h"
 #include "sphcut_kokkos.h"
 #include "sphcut_pair.h"
+#include "sphcut_row_packer_kokkos.h"
 #include "sphcut_solid.h"
 #include "pair_sph_jc_thermal.h"
 
-namespace sphcut {
-
-// the packed row of particle i (sphcut::pack_row; pack_outside for a particle that is not in the SPH
-// solid) from the atom views and the state: the body of the pair's stress pass, which fix
-// sph/jc-thermal/kk also runs in its first-half kernel for the local particles right after it has
-// moved them (PairSPHJCThermalKokkos::packer_for_fix)
-template <class DeviceType> struct RowPacker {
-  typename ArrayTypes<DeviceType>::t_double_2d pk;
-  Kokkos::View<Material *, typename DeviceType::memory_space> mt;
-  AtomViews<DeviceType> av;
-  int gb = 0, tb = 0, cb = 0, dim = 3, any_as = 0, use_rmass = 0;
-  int active = 0;    // (packer_for_fix: 0 when the pair packs every row itself this step)
-  KOKKOS_INLINE_FUNCTION void operator()(const int i) const { (*this)(i, &av.st(i, 0)); }
-  // the same from particle i's state row s (a copy of it: the integrator's staged kernel)
-  KOKKOS_INLINE_FUNCTION void operator()(const int i, const double *s) const
-  {
-    const double xi[3] = {av.x(i, 0), av.x(i, 1), av.x(i, 2)};
-    if (!(av.mask(i) & gb) || role_from_mask(av.mask(i), tb, cb) == StateLayout::TOOL) {
-      pack_outside(xi, av.type(i), &pk(i, 0));    // not in the SPH solid: its neighbours skip it
-      return;
-    }
-    pack_row(mt(av.type(i)), dim, any_as, xi, av.type(i), s, use_rmass ? av.rmass(i) : av.mass(av.type(i)), &pk(i, 0));
-  }
-};
-
-}    // namespace sphcut
-
 namespace LAMMPS_NS {
-
-class FixSPHJCThermalKokkosBase;
 
 template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCThermal, public KokkosBase {
  public:
@@ -83,12 +56,13 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
   // the passes (public: they launch device lambdas); stress_pass packs the rows first .. nall - 1
   void stress_pass(int first, int nall, int any_as);
   sphcut::RowPacker<DeviceType> row_packer(int any_as);
-  // fix sph/jc-thermal/kk packs the local particles' rows in its first-half kernel: the packer
-  // (active 0 when the rows cannot be packed there: setup, no rows yet, or their width or number
-  // would change), then rows_prepacked with the step; compute packs only the ghosts then, unless
-  // the lists were rebuilt in between (the atoms reordered) or it reallocated the rows.
-  sphcut::RowPacker<DeviceType> packer_for_fix();
-  void rows_prepacked(bigint step) { prepacked_step = step; }
+  // the local particles' rows are packed by this pair's hook after the first half in the kernel of
+  // fix sph/jc-thermal/kk (sphcut_hooks_kokkos.h, HOOK_ROWS; arm_hook): the packer (active 0 when
+  // the rows cannot be packed there: setup, no rows yet, or their width or number would change),
+  // and the step it was armed for (prepacked_step); compute packs only the ghosts then, unless the
+  // lists were rebuilt in between (the atoms reordered) or it reallocated the rows.
+  sphcut::RowPacker<DeviceType> hook_packer();
+  void arm_hook(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c);
   bool rows_fit(int pk_cols) const;
   template <int DIM, int HALF, int NEWTON, int PF = 0> void neigh_pass(int inum, int any_as);
   template <int DIM> void neigh_pass_team(int inum, int any_as, int lanes);
@@ -136,10 +110,10 @@ template <class DeviceType> class PairSPHJCThermalKokkos : public PairSPHJCTherm
  protected:
   int neighflag;
   int nmax_kk;
-  FixSPHJCThermalKokkosBase *fixkk;
+  sphcut::KokkosStateOwner *statekk;    // the state on the device (fix sph/jc-thermal/kk)
   int tables_ready;
   int prefetch;     // PF of neigh_pass (init_style: sphcut::load_ahead)
-  bigint prepacked_step = -1;    // the step whose local rows the fix packed (rows_prepacked)
+  bigint prepacked_step = -1;    // the step whose local rows the hook packed (arm_hook)
   t_mat d_mat;
   t_tpair d_tpair;                              // (ntypes+1)^2, row major
   typename AT::t_double_2d d_pack;              // what neighbours read of a particle (Pack): local + ghost

@@ -132,32 +132,6 @@ Kokkos::View<T *, typename DeviceType::memory_space> to_device(const T *host, in
   return d;
 }
 
-// the Dirichlet table of the heat rules (group bits, temperatures; sphcut::dirichlet_index) on the
-// device, one element more than given, so that the views are never empty
-template <class DeviceType>
-void dirichlet_to_device(std::vector<int> bits, std::vector<double> temps, const std::string &name,
-                         Kokkos::View<int *, typename DeviceType::memory_space> &d_bits,
-                         Kokkos::View<double *, typename DeviceType::memory_space> &d_temps)
-{
-  bits.push_back(0);
-  temps.push_back(0.0);
-  d_bits = to_device<int, DeviceType>(bits.data(), (int) bits.size(), (name + ":dirbit").c_str());
-  d_temps = to_device<double, DeviceType>(temps.data(), (int) temps.size(), (name + ":dirtemp").c_str());
-}
-
-// the two-value reduction of the integrators' second halves (value_type double[2]): a sum in r[0]
-// (work, heat) and a minimum in r[1] (a time-step limit)
-KOKKOS_INLINE_FUNCTION void sum_min_init(double *r)
-{
-  r[0] = 0.0;
-  r[1] = 1.0e300;
-}
-KOKKOS_INLINE_FUNCTION void sum_min_join(volatile double *dst, const volatile double *src)
-{
-  dst[0] += src[0];
-  if (src[1] < dst[1]) dst[1] = src[1];
-}
-
 // the range policy of every sphcut kernel: HintLightWeight passes the functor (its Views and
 // constants, often more than 512 bytes) as a kernel argument.  Without the hint Kokkos 3.4 puts
 // functors over 512 bytes into constant memory, and each such launch waits for the previous one
@@ -588,6 +562,17 @@ template <class DeviceType> void kokkos_full_list(LAMMPS_NS::Neighbor *neighbor)
 {
   kokkos_list<DeviceType>(neighbor, true);
 }
+
+// the owner of the per-atom state on the Kokkos device (fix sph/jc-thermal/kk) as the other /kk
+// styles see it: the DualView of the state rows (StateLayout columns), whose host view backs
+// sphcut::StateOwner::state.  The /kk pair reaches the state through this, not through the
+// integrator's class (as the CPU pair reaches it through sphcut::StateOwner)
+class KokkosStateOwner {
+ public:
+  // the exception specification of LAMMPS' Pointers::~Pointers(), as sphcut::AttachedStyle's
+  virtual ~KokkosStateOwner() noexcept(std::is_nothrow_destructible<LAMMPS_NS::Pointers>::value) {}
+  ::DAT::tdual_double_2d k_state;
+};
 
 // the views of the atoms, of the solid's state and of a Kokkos neighbour list that the /kk
 // kernels read: gathered in one place (atom_views) instead of one local per view in each kernel

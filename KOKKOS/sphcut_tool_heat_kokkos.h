@@ -6,9 +6,10 @@
    the contact particle).  Fix contact/tri-penalty/kk fills one per step
    (its cross neighbours, the heat per kernel weight qtw of its contact
    kernel) and either runs it as a kernel of its own over its tool
-   particles (a setup, or when no integrator takes it) or hands it to fix
-   sph/jc-thermal/kk, whose corrector kernel applies it to each particle
-   before it integrates the temperature: one launch fewer a step.
+   particles (a setup, or where it holds no hook) or hands it to fix
+   sph/jc-thermal/kk as its hook before the corrector (HOOK_TOOL_HEAT,
+   sphcut_hooks_kokkos.h), which the corrector's kernel applies to each
+   particle before it integrates the temperature: one launch fewer a step.
 ------------------------------------------------------------------------- */
 
 #ifndef SPHCUT_TOOL_HEAT_KOKKOS_H
@@ -24,7 +25,7 @@ namespace sphcut {
 
 template <class DeviceType> struct ToolHeatGather {
   typedef typename DeviceType::memory_space mem;
-  int active = 0;                       // 0: nothing to gather (the integrator skips it)
+  int active = 0;                       // 0: nothing to gather (the integrator's hook point skips it)
   int tb = 0, hb = 0;                   // the tool particles' and the heat group's mask bits
   int kern = 0, dim = 3, ntp = 0, use_rmass = 0;
   double acc = 0.0;                     // the time the heat acts for (dt; 0 at a setup)

@@ -157,11 +157,7 @@ void FixHeatFMFS::init()
 {
   fix = FixSPHJCThermal::require(lmp, "Fix heat/fmfs", groupbit, group->names[igroup], &model);
   fix->attach(this);
-  // the integrator adds the held rate (HELD) of this group to the temperature rate before its
-  // corrector, sets the predicted temperature of the Dirichlet groups after its predictor and
-  // their temperature after its corrector, the heat that takes into q_dirichlet (/kk: into a device
-  // accumulator, fetched by this fix's /kk variant), and (/kk) this fix's thermal dt limit
-  fix->set_heat_rules(this, groupbit, dir_bits, dir_temps, every, &q_dirichlet);
+  hand_over_rules();
   // Dirichlet temperatures are imposed after the temperature update of that fix
   if (sphcut::fix_index(modify, this) < sphcut::fix_index(modify, fix))
     error->all(FLERR, "Fix heat/fmfs must be defined after fix sph/jc-thermal");
@@ -198,6 +194,15 @@ void FixHeatFMFS::init_list(int, NeighList *ptr)
   list = ptr;
 }
 
+/* the integrator adds the held rate (HELD) of this group to the temperature rate before its
+   corrector, sets the predicted temperature of the Dirichlet groups after its predictor and their
+   temperature after its corrector, the heat that takes into q_dirichlet (sphcut_heat_rules.h; the
+   /kk variant hands hooks instead: FixHeatFMFSKokkos::hand_over_rules) */
+void FixHeatFMFS::hand_over_rules()
+{
+  fix->set_heat_rules(this, groupbit, dir_bits, dir_temps, every, &q_dirichlet);
+}
+
 int FixHeatFMFS::dirichlet_of(int mask) const
 {
   return sphcut::dirichlet_index(mask, groupbit, dir_bits.data(), (int) dir_bits.size());
@@ -212,10 +217,9 @@ double FixHeatFMFS::dt_limit(double, double F) const
   const Material *mat = model->materials();
   double dt = 1.0e300;
   for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & groupbit)) continue;
     const int it = atom->type[i];
-    dt = std::min(dt, sphcut::thermal_dt_limit(fix->state[i][F_::RHO], mat[it].cp, mat[it].kappa,
-                                               model->smoothing_length(it), F, every));
+    sphcut::thermal_dt_min(atom->mask[i], groupbit, fix->state[i][F_::RHO], mat[it].cp, mat[it].kappa,
+                           model->smoothing_length(it), F, every, dt);
   }
   return dt;
 }

@@ -17,6 +17,7 @@ FixStyle(heat/fmfs,FixHeatFMFS);
 #define LMP_FIX_HEAT_FMFS_H
 
 #include "fix.h"
+#include "sphcut_heat_rules.h"
 #include "sphcut_thermal.h"
 #include "sphcut_model.h"
 #include "sphcut_timer.h"
@@ -70,7 +71,7 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   double hconv, tconv;          // convection coefficient and ambient temperature
   double emiss, trad;           // emissivity and ambient temperature of radiation
   std::vector<int> dir_bits;        // the Dirichlet groups (keyword dirichlet) and their temperatures,
-  std::vector<double> dir_temps;    // as fix sph/jc-thermal's heat rules take them (sphcut::dirichlet_index)
+  std::vector<double> dir_temps;    // as the heat rules take them (sphcut::dirichlet_index)
   // energy budget (energy units, summed over this rank; reduced on output)
   double q_conv, q_rad, q_dirichlet, q_sources;
   bigint n_fmfs, n_brookshaw, n_fallback;    // counters of this rank
@@ -79,6 +80,9 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   FixSPHJCThermal *fix;
   const sphcut::Model *model;    // the model of pair sph/jc-thermal (sphcut::find_model)
   int dirichlet_of(int mask) const;
+  // the temperature rules (sphcut_heat_rules.h) to the integrator, in init: CPU, the table of
+  // FixSPHJCThermal::set_heat_rules; /kk, the fix's hooks in the integrator's kernels instead
+  virtual void hand_over_rules();
   void check_timestep();
   template <int DIM> void conduction();
   template <int DIM> void conduction_conservative();

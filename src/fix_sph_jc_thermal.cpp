@@ -31,6 +31,7 @@
 
 #include "sphcut_checks.h"
 #include "sphcut_compat.h"
+#include "sphcut_heat_rules.h"
 #include "sphcut_solid.h"
 #include "sphcut_timer.h"
 
@@ -661,7 +662,7 @@ void FixSPHJCThermal::set_heat_rules(const sphcut::AttachedStyle *owner, int gb,
 
 // the attached styles that still exist (a style may be deleted between runs; a run with
 // `pre no` calls no init, so the list is kept from run to run and only pruned here)
-void FixSPHJCThermal::prune_attached()
+std::vector<sphcut::AttachedStyle *> FixSPHJCThermal::live_styles() const
 {
   std::vector<sphcut::AttachedStyle *> live;
   if (auto *p = dynamic_cast<sphcut::AttachedStyle *>(force->pair)) live.push_back(p);
@@ -669,6 +670,12 @@ void FixSPHJCThermal::prune_attached()
     if (auto *f = dynamic_cast<sphcut::AttachedStyle *>(fx)) live.push_back(f);
   for (auto *cx : sphcut::compute_list(modify))
     if (auto *c = dynamic_cast<sphcut::AttachedStyle *>(cx)) live.push_back(c);
+  return live;
+}
+
+void FixSPHJCThermal::prune_attached()
+{
+  const std::vector<sphcut::AttachedStyle *> live = live_styles();
   std::vector<sphcut::AttachedStyle *> kept;
   for (auto *t : timed)
     if (std::find(live.begin(), live.end(), t) != live.end()) kept.push_back(t);

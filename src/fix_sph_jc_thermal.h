@@ -134,7 +134,8 @@ class FixSPHJCThermal : public Fix,
   void apply_dt(double);
   double run_start;           // wall clock at the setup of the run
   void reset_timers();
-  void prune_attached();
+  virtual void prune_attached();
+  std::vector<sphcut::AttachedStyle *> live_styles() const;    // the sphcut styles that exist now
 };
 
 }    // namespace LAMMPS_NS

@@ -6,9 +6,6 @@
        v by dt/2 f/m, drift x with the XSPH-corrected velocity (Monaghan
        1989), predictor y* = y^n + dt f^n of rho, s, T, radial return;
      rates       (pre_force): zeroed, then the pair and the heat sources add;
-     heat rules  of an attached heat style: Dirichlet temperatures after the
-       predictor and after the corrector (with the heat that takes), the held
-       conduction rate before the corrector;
      second half (final_integrate): kick, corrector y^{n+1} = y^n + dt/2
        (f^n + f^{n+1}) of rho, s, u, T, radial return, plastic heat chi W_p
        (a particle released by the spall: no expansion, s = 0, no plastic flow);
@@ -78,62 +75,6 @@ SPHCUT_INLINE void integrate_first_half(const Material &mt, int role, double dt,
     }
   }
   predict_state(mt, dt, s);
-}
-
-/* the temperature rules of an attached heat style (fix heat/fmfs), which the integrator applies in
-   its own per-particle passes, so that the style needs no pass of its own on an ordinary step
-   (FixSPHJCThermal::set_heat_rules):
-     Dirichlet groups  after the predictor (integrate_first_half) a particle of the style's group gb
-                       in one of its n Dirichlet groups (bits) takes that group's temperature as its
-                       predicted temperature (hold_predicted_temperature)
-     held rate         the rate the style holds between its evaluations (column HELD: conduction and
-                       surface losses) joins the temperature rate of the particles of its group where
-                       the step first uses that rate, the corrector (add_held_rate, before
-                       integrate_second_half).  The other heat sources (the contact's friction heat)
-                       add to DTEMP before; with at most one of them per particle (one contact fix)
-                       the sum is the same number as when the style added HELD first
-     Dirichlet groups  after the corrector (right after integrate_second_half) a Dirichlet particle's
-                       temperature goes back to its group's; the heat that takes, m cp (T_D - T), is
-                       the heat through the clamp (hold_corrected_temperature; the integrator sums it
-                       for the style's budget).  With an adaptive step the integrator also takes the
-                       style's thermal dt limit over its group there (sphcut_thermal.h)          */
-
-// Dirichlet group of a particle: the first of the n group bits its mask holds (-1: none, or the
-// particle is outside the style's group gb)
-SPHCUT_INLINE int dirichlet_index(int mask, int gb, const int *bits, int n)
-{
-  if (!(mask & gb)) return -1;
-  for (int k = 0; k < n; k++)
-    if (mask & bits[k]) return k;
-  return -1;
-}
-
-// after the predictor: a Dirichlet particle's predicted temperature (the one the force passes of
-// the step read) is its group's temperature temps[k]
-SPHCUT_INLINE void hold_predicted_temperature(int mask, int gb, const int *bits, const double *temps, int n, double *s)
-{
-  const int k = dirichlet_index(mask, gb, bits, n);
-  if (k >= 0) s[SL::TEMP_F] = temps[k];
-}
-
-// after the corrector: a Dirichlet particle's temperature back to its group's temperature temps[k];
-// returns the heat this takes, mcp (T_D - T) with mcp = m cp of the particle (0: not a Dirichlet
-// particle).  The corrector moved T by dt/2 (rate_old + rate_new), the same trapezoidal weights as
-// the neighbours' exchange with the particle: the sum is the heat through the clamp
-SPHCUT_INLINE double hold_corrected_temperature(int mask, int gb, const int *bits, const double *temps, int n,
-                                                double mcp, double *s)
-{
-  const int k = dirichlet_index(mask, gb, bits, n);
-  if (k < 0) return 0.0;
-  const double q = mcp * (temps[k] - s[SL::TEMP]);
-  s[SL::TEMP] = temps[k];
-  return q;
-}
-
-// before the corrector: the held rate joins the temperature rate of the step
-SPHCUT_INLINE void add_held_rate(double *s)
-{
-  s[SL::DTEMP] += s[SL::HELD];
 }
 
 // clear the rates of this step (pre_force)

@@ -486,11 +486,23 @@ SPHCUT_INLINE double thermal_dt_limit(double rho, double cp, double kappa, doubl
   return F * rho * cp * h * h / kappa * 2.0 / (every + 1.0);
 }
 
+// the thermal limit's loop over a heat style's group gb, one particle: its limit (density rho, cp,
+// kappa of its material, smoothing length h) joined into the minimum m when its mask holds gb.
+// The one body of that loop: fix heat/fmfs's dt_limit (CPU), its /kk reduction, and its hook in the
+// corrector of fix sph/jc-thermal/kk (sphcut::HeatCorrectorHook)
+SPHCUT_INLINE void thermal_dt_min(int mask, int gb, double rho, double cp, double kappa, double h, double F,
+                                  int every, double &m)
+{
+  if (!(mask & gb)) return;
+  const double d = thermal_dt_limit(rho, cp, kappa, h, F, every);
+  if (d < m) m = d;
+}
+
 // Stefan-Boltzmann constant in SI units (radiation of fix heat/fmfs needs units si)
 constexpr double STEFAN_BOLTZMANN_SI = 5.670374419e-8;
 
-// (the Dirichlet group of a particle, dirichlet_index, is in sphcut_solid.h: the integrator applies
-// the Dirichlet temperatures in its predictor)
+// (the Dirichlet group of a particle, dirichlet_index, is in sphcut_heat_rules.h: the integrator
+// applies the Dirichlet temperatures in its predictor and after its corrector)
 
 // ---------------------------------------------------------------------------
 // free-surface indicator (Marrone et al. 2010; seed 003 sec. 4.2)

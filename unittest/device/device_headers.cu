@@ -5,6 +5,7 @@
 // ctest runs it where nvcc exists (test_device_headers); no GPU is needed.
 #include "sphcut_pair.h"
 #include "sphcut_solid.h"
+#include "sphcut_heat_rules.h"
 #include "sphcut_thermal.h"
 #include "sphcut_contact.h"
 #include "sphcut_kernels.h"
@@ -54,7 +55,9 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   fmfs_add<3>(a3, r, gg, 1.0, 1.0);
   out[2] = fmfs_weights<3>(a3, wts) + fmfs_laplacian<3>(a3, lap) + surface_lambda<3>(a3.B);
   FmfsAccum<2> a2; fmfs_zero<2>(a2); fmfs_add<2>(a2, r, gg, 1.0, 1.0);
-  out[3] = fmfs_weights<2>(a2, wts) + fmfs_pair_weight<3>(wts, r, gg) + thermal_dt_limit(1, 1, 1, 1, 0.1, 1);
+  double tmin = 1e300;
+  thermal_dt_min(1, 1, s[0], 1, 1, 1, 0.1, 1, tmin);
+  out[3] = fmfs_weights<2>(a2, wts) + fmfs_pair_weight<3>(wts, r, gg) + thermal_dt_limit(1, 1, 1, 1, 0.1, 1) + tmin;
   double n[3], q[3], d, qc, qr;
   surface_normal<3>(a3.B, gg, n);
   // the fused pass of fix heat/fmfs and compute surface/lambda
@@ -91,6 +94,11 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   penalty_contact(ci, co);
   out[4] = decompose_contact(co, n, acc) + mu_table(r, gg, 2, 300.0) + penalty_dt_limit(1, 1, 0.1, 1) +
            kernel_w(0, 3, 0.5, 1.0) + near_contact(d, 1, 1.2, v, v, 3, 1e-9) + dirichlet_index(1, 1, &e, 1);
+  // the heat rules an integrator applies for fix heat/fmfs (sphcut_heat_rules.h)
+  const double td = s[24];
+  add_held_rate(s);
+  hold_predicted_temperature(1, 1, &e, &td, 1, s);
+  out[4] += hold_corrected_temperature(1, 1, &e, &td, 1, 2.0, s);
   // tool fields per facet
   FacetShare fs;
   fs.start = &e;
