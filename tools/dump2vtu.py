@@ -157,6 +157,14 @@ def frames(path):
 _NOT_UTF8 = re.compile("[\udc80-\udcff]")
 
 
+def last_frame(path):
+    """(time step, column names, data (n, ncol) float64) of the last frame of a dump, as frames()
+    reads it (its errors likewise); (None, None, None) for a dump without a frame"""
+    last = (None, None, None)
+    for step, _time, _box, names, data in frames(path):
+        last = (step, names, data)
+    return last
+
 def _is_number(s):
     try:
         float(s)

@@ -6,29 +6,24 @@ particles (type 2) marked, into picture.png.  Run in the output folder; the axis
 is not needed: the section is taken through the hottest particle's x.
 Usage: python3 picture.py [-i dump.fsw] [-o picture.png]"""
 import argparse
+import os
+import sys
 
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from dump2vtu import last_frame  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument("-i", default="dump.fsw")
 ap.add_argument("-o", default="picture.png")
 ap.add_argument("--dx", type=float, default=0.5e-3, help="particle spacing of the run (m)")
 a = ap.parse_args()
-lines = open(a.i).read().splitlines()
-k, step, cols, rows = 0, 0, None, []
-while k < len(lines):
-    if lines[k].startswith("ITEM: TIMESTEP"):
-        s = int(lines[k + 1])
-    elif lines[k].startswith("ITEM: NUMBER OF ATOMS"):
-        n = int(lines[k + 1])
-    elif lines[k].startswith("ITEM: ATOMS"):
-        cols = lines[k].split()[2:]
-        rows = [list(map(float, l.split())) for l in lines[k + 1:k + 1 + n]]
-        step = s
-        k += n
-    k += 1
+step, cols, rows = last_frame(a.i)
+if rows is None:
+    sys.exit(f"picture.py: no frame in {a.i}")
 c = {name: i for i, name in enumerate(cols)}
 X, Y, Z, T, TY = (c["x"], c["y"], c["z"], c["temperature"], c["type"])
 dx = a.dx

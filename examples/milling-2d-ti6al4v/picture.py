@@ -2,6 +2,7 @@
 """The last frame of dump.milling (particles coloured by temperature) with the cutter's outline from
 the last cutter-*.vtk that fix contact/tri-penalty wrote, into picture.png.  Run in the output folder."""
 import glob
+import os
 import re
 import sys
 
@@ -9,24 +10,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-
-def last_frame(path="dump.milling"):
-    frame, cols, rows, n = None, None, [], 0
-    with open(path) as f:
-        lines = f.read().splitlines()
-    k = 0
-    while k < len(lines):
-        if lines[k].startswith("ITEM: TIMESTEP"):
-            step = int(lines[k + 1])
-        elif lines[k].startswith("ITEM: NUMBER OF ATOMS"):
-            n = int(lines[k + 1])
-        elif lines[k].startswith("ITEM: ATOMS"):
-            cols = lines[k].split()[2:]
-            rows = [list(map(float, l.split())) for l in lines[k + 1:k + 1 + n]]
-            frame = step
-            k += n
-        k += 1
-    return frame, cols, rows
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+from dump2vtu import last_frame  # noqa: E402
 
 
 def tool_segments(path):
@@ -48,8 +33,8 @@ def tool_segments(path):
 
 
 def main():
-    step, cols, rows = last_frame()
-    if not rows:
+    step, cols, rows = last_frame("dump.milling")
+    if rows is None:
         sys.exit("picture.py: no frame in dump.milling (run with -var dumpevery N)")
     x, y, T = cols.index("x"), cols.index("y"), cols.index("temperature")
     fig, ax = plt.subplots(figsize=(7, 5))
