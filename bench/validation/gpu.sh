@@ -7,7 +7,7 @@
 # runs one short cut to fill the CUDA JIT cache, then for each parameter set of VAL_SETS
 # `validate.py run` with VAL_JOBS runs at a time until VAL_END (an epoch second; runs still going
 # then are stopped and rerun by the next start: finished ones stay in the database).
-#   VAL_SETS   ;-separated argument lists of validate.py (default "--set seed003")
+#   VAL_SETS   ;-separated argument lists of validate.py (default "--set seed003"; "-": none, Figure 6 alone)
 #   VAL_ARGS   arguments for every set (e.g. "--vc 318.5,100")
 #   VAL_JOBS   runs at a time (default 16)
 #   VAL_DB     the runs database (default $OUT/runs.sqlite; give an earlier database to continue it)
@@ -51,6 +51,7 @@ if [ -n "${FIG6_NY:-}" ]; then
   say "fig6: ${#fig6_pids[@]} runs at $FIG6_NY across started"
 fi
 IFS=';' read -ra SETS <<< "${VAL_SETS:---set seed003}"
+[ "${VAL_SETS:-}" = "-" ] && SETS=()    # Figure 6 alone
 for s in "${SETS[@]}"; do
   left=$(( VAL_END - $(date +%s) ))
   [ $left -gt 90 ] || { say "no time left for: $s"; continue; }
