@@ -9,7 +9,8 @@ averaged per facet: stresses, contacts and wear rate as plain means of the inter
 speed and temperature weighted by the contacts; the wear depth is the last interval's.  The
 distance of a facet from the cutting edge is that of its centroid from the mean centroid of the
 edge facets (feature 2), in the x-y plane (2D: along the face, to within half a facet and the
-edge radius; 3D: the two triangles of a strip give two points).
+edge radius; 3D: the two triangles of a strip give two points).  A rounded edge's own facets are
+listed in the table as "edge", from the rake face's side (distance > 0) round to the flank's (< 0).
 
 Facets with fewer contacts than --min-contacts (default 0.02, a time average) are not
 plotted (listed in the table): a stray particle touching the far end of a face now and
@@ -66,7 +67,10 @@ def profiles(blocks, skip):
     for feat, name in ((1, "rake"), (3, "flank")):
         rows = sorted(([math.hypot(r[CX] - ex, r[CY] - ey)] + r for r in mean if r[FEAT] == feat))
         out[name] = rows
-    return out, use
+    # a rounded edge's own facets (table only): distance from the edge's mean centroid, > 0 on the
+    # rake face's side (above it), < 0 on the flank's, from the rake face round to the flank
+    rows = [[math.copysign(math.hypot(r[CX] - ex, r[CY] - ey), r[CY] - ey)] + r for r in mean if r[FEAT] == 2]
+    return out, sorted(rows, key=lambda r: -r[0]), use
 
 
 def main():
@@ -79,10 +83,10 @@ def main():
     blocks = read_blocks(a.file)
     if len(blocks) < 2:
         sys.exit(f"{a.file}: no averaging interval after step 0 (run with -var toolfields N, N < the run's steps)")
-    prof, use = profiles(blocks, a.skip)
+    prof, edge, use = profiles(blocks, a.skip)
     print(f"# {len(use)} intervals, steps {use[0][0]}-{use[-1][0]}")
     print("# face  distance_um  sigma_n_MPa  tau_MPa  v_s_m/s  T_K  contacts  wear_rate_m/s  wear_depth_m")
-    for name, rows in prof.items():
+    for name, rows in list(prof.items()) + [("edge", edge)]:
         for r in rows:
             d, v = r[0], r[1:]
             print(f"{name:5s} {d * 1e6:9.2f} {v[SN] / 1e6:10.2f} {v[TAU] / 1e6:9.2f} {v[VS]:8.3f} {v[TEMP]:7.1f} "
