@@ -9,6 +9,10 @@ steps in all.  Asserts the physics of the rotating tool from fsw.dat:
 - the axial force pushes the tool up (Fz > 0) in contact; forces finite and bounded;
 - the peak temperature rises above the initial 300 K where the pin touches and stays below the
   melting point 855 K; the lumped tool warms with its share of the friction heat; no particle starts in the tool's contact radius.
+Then the same tool started inserted (-var start inserted, 250 steps): the particles of the pin's
+hole deleted (the lattice sites inside the cone 0.6 spacings wider and deeper than the pin, counted
+here), none in the contact radius, the plunge the shoulder's gap + depth only, torque > 0 and Fz > 0
+in contact; a start other than plunge or inserted refused with the value named.
 Usage: python3 test_fsw.py LMP EXAMPLE_DIR  (run in an empty working folder)"""
 import math
 import os
@@ -52,4 +56,47 @@ check(rows[0][11] <= 300.0 + 1e-9 and tmax > 301.0, f"peak temperature rises fro
 check(tmax < 855.0, f"peak temperature {tmax:.2f} K below the melting point 855 K")
 check(rows[-1][12] > 300.0 and all(b[12] >= a[12] for a, b in zip(rows, rows[1:])),
       f"the lumped tool takes its share of the friction heat: {rows[-1][12]:.6f} K, never falling")
+
+# ---- start inserted: the pin in a hole of its shape, the shoulder half a spacing above the top
+import re
+import subprocess
+os.makedirs("inserted", exist_ok=True)
+os.chdir("inserted")
+ins = [a for a in args if a not in ("600",)]
+ins[ins.index("steps") + 1:ins.index("steps") + 1] = ["250"]
+ins += ["-var", "start", "inserted"]
+out = run(ins)
+dx, Rp, Lp, t, Lx, Ly = 0.5e-3, 2e-3, 2.7e-3, 4e-3, 16e-3, 16e-3
+x0 = -0.5 * Lx + 2 * 6e-3
+gap = 0.5 * dx
+tip0 = gap - Lp
+m = re.search(r"Deleted (\d+) atoms", out)
+# the plate's lattice sites ((i+1/2) dx) inside the cone (here a cylinder: Rtip = Rpin) of radius
+# Rpin + 0.6 dx from tip0 - 0.6 dx up
+n = 0
+for i in range(int(-0.5 * Lx / dx) - 2, int(0.5 * Lx / dx) + 2):
+    x = (i + 0.5) * dx
+    for j in range(int(-0.5 * Ly / dx) - 2, int(0.5 * Ly / dx) + 2):
+        y = (j + 0.5) * dx
+        for k in range(-int(t / dx) - 2, 1):
+            z = (k + 0.5) * dx
+            if not (-0.5 * Lx <= x <= 0.5 * Lx and -0.5 * Ly <= y <= 0.5 * Ly and -t <= z <= 0):
+                continue
+            if (x - x0) ** 2 + y ** 2 <= (Rp + 0.6 * dx) ** 2 and tip0 - 0.6 * dx <= z <= gap:
+                n += 1
+check(m is not None and int(m.group(1)) == n, f"start inserted: {m.group(1) if m else None} particles deleted, "
+      f"{n} lattice sites in the pin's hole")
+check("start within the contact radius" not in out, "start inserted: no particle starts within the tool's contact radius")
+tpl = (tip0 + (Lp + 0.1e-3)) / 0.4
+m = re.search(r"plunge 0.4 m/s for ([0-9.e+-]+) s", out)
+check(m is not None and abs(float(m.group(1)) - tpl) < 1e-12, f"start inserted: the plunge is the shoulder's gap + "
+      f"depth: {m.group(1) if m else None} s = {tpl:.6g} s")
+rows = rows_after_step0("fsw.dat")
+contact = [r for r in rows if r[10] > 0]
+check(len(contact) >= 5 and all(r[8] > 0 and r[6] > 0 for r in contact[3:]),
+      f"start inserted: {len(contact)} rows in contact, torque > 0 and Fz > 0 from the 4th: last "
+      f"{rows[-1][8]:.4g} N m, {rows[-1][6]:.4g} N")
+p = subprocess.run(args[:-2] + ["-var", "start", "sideways", "-log", "none"], capture_output=True, text=True)
+check(p.returncode != 0 and "start sideways: plunge or inserted" in p.stdout + p.stderr,
+      "start sideways refused, the value named")
 sys.exit(1 if fails else 0)
