@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The full FSW tool of in.fsw's defaults (shoulder R 10 mm, pin R 3 mm x 5.7 mm, 6.35 mm plates,
-# 1000 rpm after a 2 ms ramp, plunge 0.2 m/s, 2 ms dwell, 5 mm traverse at 0.1 m/s) on one GPU
+# 1000 rpm after a 2 ms ramp, plunge 0.2 m/s, 2 ms dwell, 5 mm traverse at 0.1 m/s), started with the
+# pin in a hole of its shape (START, default inserted; plunge: from above, README) on one GPU
 # under the /kk styles, bounded in wall time.  Run from an output folder:
 #   source build-cuda/env.sh && mkdir run && cd run && bash ../examples/fsw-3d-aluminium/gpu.sh
 # DX spacing (default 0.25e-3: 540,000 particles, the full case about 31,000 steps), WALL seconds
@@ -16,11 +17,12 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 : "${LMP:?source build-cuda/env.sh (or build/env.sh) first}"
 DX="${DX:-0.25e-3}"; WALL="${WALL:-300}"; STEPS="${STEPS:-0}"; DUMP="${DUMP:-0}"; ARGS="${ARGS:-}"
+START="${START:-inserted}"
 KK="${KK:--k on g 1 -sf kk -pk kokkos neigh full newton off}"
 t0=$(date +%s.%N)
 # shellcheck disable=SC2086
 $LMP $KK -in "$here/in.fsw" -var exdir "$here" -var dx "$DX" -var walltime "$WALL" -var steps "$STEPS" \
-  -var dumpevery "$DUMP" -var finaldump 1 $ARGS -log log.fsw \
+  -var dumpevery "$DUMP" -var start "$START" -var finaldump 1 $ARGS -log log.fsw \
   | awk '/^fsw:|^tool.py/{print} /^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time|WARNING|ERROR|[Tt]imeout/{print}'
 t1=$(date +%s.%N)
 # the run's loop: the first "Loop time" line (the second is the final frame's run 0)
