@@ -1,7 +1,8 @@
 # Sourced by the GPU scripts of bench/ (gpu/*.sh, cutting/device-cut.sh, cutting/sensitivity.sh
 # with DEVICE=1): environment, the summary writer say(), the LAMMPS binary lmp() (build-cuda/lmp_sphcut,
 # built as in README "GPU build"), run_modes() and build(), which builds it only where it is missing
-# (from a packed source tree in .carry/, for machines without network).  Expects ROOT.
+# (the dependencies as README's "GPU build"; on a machine without network from the packed sources in
+# .carry/, the device machines these figures were measured on).  Expects ROOT.
 OUT="${OUT:-$PWD/gpu-out}"
 mkdir -p "$OUT"
 NJ=$(env -u OMP_NUM_THREADS -u OMP_THREAD_LIMIT nproc)    # (nproc follows OMP_NUM_THREADS, exported below: a second script sourcing this would build on one core)
@@ -31,8 +32,14 @@ build() {
     mkdir -p "$SPHCUT_CACHE" && tar xzf "$ROOT/.carry/deps.tar.gz" -C "$SPHCUT_CACHE" \
       && say "deps: from .carry/deps.tar.gz"
   fi
-  mkdir -p /tmp/sphcut-src && tar xzf "$ROOT/.carry/sphcut-sources.tar.gz" -C /tmp/sphcut-src
-  bash "$ROOT/tools/build-deps.sh" --cuda --no-apt --sources /tmp/sphcut-src --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
+  # the pinned sources: packed (tools/build-deps.sh --pack-sources) for a machine without network, else
+  # from Debian's mirror as README's "GPU build" does
+  local src=()
+  if [ -f "$ROOT/.carry/sphcut-sources.tar.gz" ]; then
+    mkdir -p /tmp/sphcut-src && tar xzf "$ROOT/.carry/sphcut-sources.tar.gz" -C /tmp/sphcut-src
+    src=(--no-apt --sources /tmp/sphcut-src)
+  fi
+  bash "$ROOT/tools/build-deps.sh" --cuda "${src[@]}" --jobs "$NJ" > "$OUT/build-deps.log" 2>&1 \
     || { tail -30 "$OUT/build-deps.log"; exit 1; }
   PREFIX=$(bash "$ROOT/tools/build-deps.sh" --cuda --print-prefix)
   # (SPHCUT_CXX_FLAGS: more flags for the plugin's compiler, nvcc_wrapper; e.g. -lineinfo for
