@@ -113,13 +113,14 @@ int FixContactTriPenalty::parse_tool_keyword(const std::string &kw, int iarg, in
   }
   if (kw == "insert") {
     // insert rake G clearance A radius R rake_length L flank_length F [width W] [segments N] [face_segments M]
+    //        [land VB]
     spec.kind = "insert";
     spec.args.clear();
     int i = iarg + 1;
     while (i + 1 < narg) {
       const std::string k = arg[i];
       if (k != "rake" && k != "clearance" && k != "radius" && k != "rake_length" && k != "flank_length" &&
-          k != "width" && k != "segments" && k != "face_segments")
+          k != "width" && k != "segments" && k != "face_segments" && k != "land")
         break;
       if (k == "segments" || k == "face_segments")
         sphcut::parse_int(lmp, "Fix contact/tri-penalty", "insert " + k, arg[i + 1]);
@@ -469,6 +470,7 @@ void FixContactTriPenalty::build_insert(const ToolSpec &spec)
     else if (a[k] == "width") ip.width = v;
     else if (a[k] == "segments") ip.arc_segments = (int) v;
     else if (a[k] == "face_segments") ip.face_segments = (int) v;
+    else if (a[k] == "land") ip.land = v;
   }
   std::vector<int> tags;
   elem = sphcut::make_cutting_insert(ip, domain->dimension, &tags);

@@ -549,6 +549,11 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim, std::vec
   if (dim == 3 && !(p.width > 0.0)) throw std::invalid_argument(who + "width must be positive");
   if (p.arc_segments < 1) throw std::invalid_argument(who + "arc_segments must be >= 1");
   if (p.face_segments < 1) throw std::invalid_argument(who + "face_segments must be >= 1");
+  if (!(p.land >= 0.0) || std::isinf(p.land)) {
+    char v[32];
+    snprintf(v, sizeof(v), "%g", p.land);
+    throw std::invalid_argument(who + "land must be >= 0 and finite, got " + v);
+  }
 
   const double g = p.rake_angle * DEG, a = p.clearance_angle * DEG, r = p.edge_radius;
   const double nr[2] = {-cos(g), sin(g)};     // rake outward normal
@@ -572,7 +577,7 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim, std::vec
     const double part1 = 90.0 + p.rake_angle, part2 = p.clearance_angle;
     const int nseg = p.arc_segments;
     int n2 = 0;
-    if (part2 > 0.0) {
+    if (part2 > 0.0 && p.land == 0.0) {
       n2 = (int) std::lround(nseg * part2 / (part1 + part2));
       n2 = std::max(1, std::min(n2, nseg - 1));
     }
@@ -600,8 +605,15 @@ std::vector<double> make_cutting_insert(const InsertParams &p, int dim, std::vec
       }
       ptag.push_back(INSERT_EDGE);
     }
-    ptag.back() = INSERT_FLANK;    // edge from the flank tangent point
+    ptag.back() = INSERT_FLANK;    // edge from the flank tangent point (with a land: from the tip)
   } else {
+    ptag.push_back(INSERT_FLANK);
+  }
+  // a flank wear land: the arc's part behind the tip (r (1 - cos alpha) high) is worn away and the
+  // flank starts after a flat of width land at the tip's height, tangent to the arc at the tip
+  if (p.land > 0.0) {
+    px.push_back(p.land);
+    py.push_back(0.0);
     ptag.push_back(INSERT_FLANK);
   }
   px.push_back(px.back() + p.flank_length * tf[0]);

@@ -155,6 +155,8 @@ struct InsertParams {
   double width = 1.0;              // dim 3 only
   int arc_segments = 8;            // >= 1 (2 when the tip splits the arc)
   int face_segments = 1;           // >= 1: rake and flank faces each split into this many equal parts
+  double land = 0.0;               // >= 0: a flank wear land, a flat of this width at the tip's height
+                                   // (zero clearance) between the tip and the flank (tagged flank)
 };
 
 enum InsertFace { INSERT_RAKE = 0, INSERT_EDGE = 1, INSERT_FLANK = 2, INSERT_BACK = 3, INSERT_SIDE = 4 };

@@ -1320,6 +1320,8 @@ TEST(BadInput, ContactFix)
                                "Expected floating point parameter instead of 'x'"));
   EXPECT_TRUE(l.error_contains(fix + "insert rake 50 clearance 45 radius 0 rake_length 1e-3 flank_length 1e-3",
                                "wedge angle 90 - alpha - gamma must be positive"));
+  EXPECT_TRUE(l.error_contains(fix + "insert rake 0 clearance 7 radius 0 rake_length 1e-3 flank_length 1e-3 land -2e-05",
+                               "cutting insert: land must be >= 0 and finite, got -2e-05"));
   // the friction law keywords
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction sticky", "friction must be static, coulomb or memory, got sticky"));
   EXPECT_TRUE(l.error_contains(fix + "stl plate.stl friction memory tfac 0", "tfac must be in (0,1], got 0"));

@@ -1039,6 +1039,64 @@ TEST(Insert, Geometry)
   EXPECT_THROW(make_cutting_insert(bad, 3), std::invalid_argument);
 }
 
+// a flank wear land: a flat of width land at the tip's height from the tip, tagged flank, then the
+// flank at the clearance angle; the arc on the rake side only; closed 3D mesh of the section's area
+TEST(Insert, FlankWearLand)
+{
+  for (double r : {28.7e-6, 0.0}) {
+    InsertParams ip;
+    ip.rake_angle = 0.0;
+    ip.clearance_angle = 7.0;
+    ip.edge_radius = r;
+    ip.arc_segments = 8;
+    ip.rake_length = 300e-6;
+    ip.flank_length = 200e-6;
+    ip.width = 100e-6;
+    ip.land = 50e-6;
+    std::vector<int> tags;
+    const std::vector<double> seg = make_cutting_insert(ip, 2, &tags);
+    const size_t ns = seg.size() / 6;
+    ASSERT_EQ(tags.size(), ns);
+    int nland = 0, nedge = 0, nflank = 0;
+    double area = 0.0;
+    for (size_t e = 0; e < ns; e++) {
+      const double *a = &seg[6 * e], *b = &seg[6 * e + 3];
+      EXPECT_GE(a[1], 0.0) << "no vertex below the tip";
+      area += 0.5 * (a[0] * b[1] - a[1] * b[0]);
+      if (tags[e] == INSERT_EDGE) nedge++;
+      if (tags[e] == INSERT_FLANK) nflank++;
+      if (a[0] == 0.0 && a[1] == 0.0) {    // the segment from the tip: the land
+        nland++;
+        EXPECT_EQ(tags[e], INSERT_FLANK);
+        EXPECT_EQ(b[0], ip.land);
+        EXPECT_EQ(b[1], 0.0);
+        const double *c = &seg[6 * ((e + 1) % ns) + 3];    // the flank's end
+        const double a7 = 7.0 * PI / 180.0;
+        EXPECT_NEAR(c[0], ip.land + ip.flank_length * cos(a7), 1e-18);
+        EXPECT_NEAR(c[1], ip.flank_length * sin(a7), 1e-18);
+        EXPECT_EQ(tags[(e + 1) % ns], INSERT_FLANK);
+      }
+    }
+    EXPECT_EQ(nland, 1) << "radius " << r;
+    EXPECT_EQ(nedge, r > 0.0 ? ip.arc_segments : 0) << "the arc on the rake side only, radius " << r;
+    EXPECT_EQ(nflank, 2);
+    const std::vector<double> tri = make_cutting_insert(ip, 3);
+    EXPECT_TRUE(mesh_closure(tri).closed()) << "radius " << r;
+    EXPECT_NEAR(mesh_volume(tri), area * ip.width, 1e-12 * area * ip.width);
+    // without the land: the flank from the arc at 270 + alpha degrees, no vertex on y = 0 but the tip
+    ip.land = 0.0;
+    const std::vector<double> seg0 = make_cutting_insert(ip, 2);
+    int on0 = 0;
+    for (size_t k = 0; k < seg0.size(); k += 6) on0 += seg0[k + 1] == 0.0;
+    EXPECT_EQ(on0, 1) << "radius " << r;
+  }
+  InsertParams bad;
+  bad.land = -1e-6;
+  EXPECT_THROW(make_cutting_insert(bad, 2), std::invalid_argument);
+  bad.land = INFINITY;
+  EXPECT_THROW(make_cutting_insert(bad, 3), std::invalid_argument);
+}
+
 /* ----------------------------------------------------------------------
    contact bins
 ------------------------------------------------------------------------- */
