@@ -68,7 +68,7 @@ PARAM_SETS = {
 }
 # numeric -var inputs a parameter set or --param may set (in.cutting's names)
 KNOWN_PARAMS = {"jcA", "jcB", "jcC", "jcn", "jcm", "Tmelt", "mu", "eta", "pfac", "dfac", "sfac",
-                "hdx", "cfl", "pmin", "rake", "clearance"}
+                "hdx", "cfl", "pmin", "rake", "clearance", "land"}
 
 REQUIRED = ("vc_m_min", "h_mm", "Fc_N", "Ff_N", "rn_um")
 OPTIONAL = ("sd_Fc_N", "sd_Ff_N", "hchip_avg_um", "sd_hchip_um", "status", "test")
