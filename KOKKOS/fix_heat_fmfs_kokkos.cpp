@@ -180,21 +180,20 @@ template <class DeviceType>
 void FixHeatFMFSKokkos<DeviceType>::arm_hooks(sphcut::IntegratorHooks<DeviceType> &h, const sphcut::HookCall &c)
 {
   const int nd = (int) dir_bits.size();
+  sphcut::HeatRulesView<DeviceType> rules;
+  rules.gb = groupbit;
+  rules.nd = nd;
+  rules.dbit = d_dirbit;
+  rules.dtemp = d_dirtemp;
   if (c.pass == sphcut::HookCall::FIRST_HALF) {
     auto &p = h.first_half.heat;
     p.active = nd > 0;
-    p.gb = groupbit;
-    p.nd = nd;
-    p.dbit = d_dirbit;
-    p.dtemp = d_dirtemp;
+    p.rules = rules;
     return;
   }
   auto &k = h.corrector.heat;
   k.active = 1;
-  k.gb = groupbit;
-  k.nd = nd;
-  k.dbit = d_dirbit;
-  k.dtemp = d_dirtemp;
+  k.rules = rules;
   k.h = d_h;
   k.every = every;
   k.F = fixkk->thermal_courant();

@@ -45,16 +45,21 @@ void dirichlet_to_device(std::vector<int> bits, std::vector<double> temps, const
   d_temps = to_device<double, DeviceType>(temps.data(), (int) temps.size(), (name + ":dirtemp").c_str());
 }
 
-// after the first half: a Dirichlet particle's predicted temperature (TEMP_F) is its group's
-template <class DeviceType> struct HeatPredictHook {
+// the heat fix's rules as both hooks read them: its group and its nd Dirichlet groups (dbit, dtemp)
+template <class DeviceType> struct HeatRulesView {
   typedef typename DeviceType::memory_space mem;
-  int active = 0;           // 0: no Dirichlet group (the integrator skips it)
-  int gb = 0, nd = 0;       // the heat fix's group, its nd Dirichlet groups (dbit, dtemp)
+  int gb = 0, nd = 0;
   Kokkos::View<const int *, mem> dbit;
   Kokkos::View<const double *, mem> dtemp;
+};
+
+// after the first half: a Dirichlet particle's predicted temperature (TEMP_F) is its group's
+template <class DeviceType> struct HeatPredictHook {
+  int active = 0;           // 0: no Dirichlet group (the integrator skips it)
+  HeatRulesView<DeviceType> rules;
   KOKKOS_INLINE_FUNCTION void operator()(const int mask, double *s) const
   {
-    hold_predicted_temperature(mask, gb, &dbit(0), &dtemp(0), nd, s);
+    hold_predicted_temperature(mask, rules.gb, &rules.dbit(0), &rules.dtemp(0), rules.nd, s);
   }
 };
 
@@ -65,29 +70,29 @@ template <class DeviceType> struct HeatCorrectorHook {
   typedef typename DeviceType::memory_space mem;
   enum { QDIR = 0, DT_LIM = 1, NVALUES = 2 };
   int active = 0;                  // 0: no heat fix (the integrator skips it)
-  int gb = 0, nd = 0;              // the group whose held rate joins, the Dirichlet groups (dbit, dtemp)
+  HeatRulesView<DeviceType> rules;    // (rules.gb: the group whose held rate joins)
   int want_lim = 0, every = 1;     // the thermal limit this step (thermal Courant number F, sub-cycling)
   double F = 0.0;
-  Kokkos::View<const int *, mem> dbit;
-  Kokkos::View<const double *, mem> dtemp, h;    // (h: smoothing length per type)
+  Kokkos::View<const double *, mem> h;    // smoothing length per type
   typename ArrayTypes<DeviceType>::t_double_1d qacc;    // the heat fix's accumulator of the Dirichlet heat
   typename ArrayTypes<DeviceType>::t_double_1d slot;    // the heat fix's dt slot (want_lim)
   KOKKOS_INLINE_FUNCTION static constexpr bool is_min(int k) { return k == DT_LIM; }
   KOKKOS_INLINE_FUNCTION void before_corrector(const int mask, double *s) const
   {
-    if (mask & gb) add_held_rate(s);
+    if (mask & rules.gb) add_held_rate(s);
   }
   // particle of mask and type, mass m, material mt, right after its corrector; r: the hook's values
   KOKKOS_INLINE_FUNCTION void after_corrector(const int mask, const int type, const double m, const Material &mt,
                                               double *s, double *r) const
   {
-    if (nd) r[QDIR] += hold_corrected_temperature(mask, gb, &dbit(0), &dtemp(0), nd, m * mt.cp, s);
-    if (want_lim && (mask & gb))
-      thermal_dt_min(mask, gb, s[StateLayout::RHO], mt.cp, mt.kappa, h(type), F, every, r[DT_LIM]);
+    const HeatRulesView<DeviceType> &d = rules;
+    if (d.nd) r[QDIR] += hold_corrected_temperature(mask, d.gb, &d.dbit(0), &d.dtemp(0), d.nd, m * mt.cp, s);
+    if (want_lim && (mask & d.gb))
+      thermal_dt_min(mask, d.gb, s[StateLayout::RHO], mt.cp, mt.kappa, h(type), F, every, r[DT_LIM]);
   }
   KOKKOS_INLINE_FUNCTION void final(const double *r) const
   {
-    if (nd) qacc(0) += r[QDIR];
+    if (rules.nd) qacc(0) += r[QDIR];
     if (want_lim) slot(0) = r[DT_LIM];
   }
 };
