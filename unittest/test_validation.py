@@ -72,6 +72,19 @@ check(abs(float(av["rho"]) - 4430 * g["massscale"]) < 1e-6 and abs(float(av["cp"
 
 a0, b0 = validate.linear_fit([0.02, 0.1, 0.2], [12.0, 28.0, 48.0])
 check(abs(a0 - 8.0) < 1e-12 and abs(b0 - 200.0) < 1e-9, f"linear fit 8 + 200 h: {a0} {b0}")
+# the measurements' own consistency: 10 + 1000 h at five h, one of them 50 % high (the robust line
+# keeps to the other four: deviations 0, 0, 0, 0.5, 0), and a speed with two h (too few: not counted)
+hs = [0.02, 0.04, 0.06, 0.08, 0.1]
+ys = [10 + 1000 * h for h in hs]
+ys[3] *= 1.5
+a1, b1 = validate.theil_sen(hs, ys)
+check(abs(a1 - 10.0) < 1e-9 and abs(b1 - 1000.0) < 1e-6, f"Theil-Sen line 10 + 1000 h past one outlier: {a1} {b1}")
+mrows = [{"vc": 100.0, "h": h, "Fc_meas": y, "Ft_meas": y, "hchip_meas": None if k == 0 else y}
+         for k, (h, y) in enumerate(zip(hs, ys))] + \
+        [{"vc": 70.0, "h": h, "Fc_meas": 50.0, "Ft_meas": 50.0, "hchip_meas": 50.0} for h in (0.02, 0.04)]
+mc = validate.measurement_consistency(mrows)
+check(mc["Fc"][0] == 5 and abs(mc["Fc"][1] - 0.1) < 1e-12 and abs(mc["hchip"][1] - 0.5 / 4) < 1e-9,
+      f"measurements about their own line: Fc 0.1 over 5, chip 0.125 over 4 (one without): {mc}")
 
 # ---- bad input: a clear error, nothing run
 bad = [("missing column", HEADER.replace(",Ff_N,", ",", 1) + "T1,318.5,0.1,162,3.5,32,2.2,-,-,ok\n",

@@ -496,6 +496,39 @@ def linear_fit(xs, ys):
     return my - b * mx, b
 
 
+def median(xs):
+    v = sorted(xs)
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def theil_sen(xs, ys):
+    """the robust straight line y = a + b x: b the median of the pairwise slopes, a the median of
+    y - b x (one outlier does not move it)"""
+    slopes = [(ys[j] - ys[i]) / (xs[j] - xs[i]) for i in range(len(xs)) for j in range(i + 1, len(xs))
+              if xs[j] != xs[i]]
+    b = median(slopes)
+    return median([y - b * x for x, y in zip(xs, ys)]), b
+
+
+def measurement_consistency(rows):
+    """per quantity: the mean absolute deviation of the measured values from a straight line in h
+    fitted robustly (Theil-Sen) to the measurements of the same speed (speeds with 3 or more h) and
+    the number of conditions: how far the measurements lie from a smooth trend of their own, about
+    the closest a prediction that is smooth in h can come to them"""
+    out = {}
+    for q in ("Fc", "Ft", "hchip"):
+        devs = []
+        for vc in sorted({r["vc"] for r in rows}):
+            rr = [r for r in rows if r["vc"] == vc and r[q + "_meas"]]
+            if len({r["h"] for r in rr}) < 3:
+                continue
+            a, b = theil_sen([r["h"] for r in rr], [r[q + "_meas"] for r in rr])
+            devs += [abs(r[q + "_meas"] / (a + b * r["h"]) - 1.0) for r in rr]
+        out[q] = (len(devs), math.fsum(devs) / len(devs) if devs else None)
+    return out
+
+
 def edge_and_chip(rows):
     """per speed with 3 or more h: F = F_edge + k h for Fc and Ft, measured and simulated (the
     force at h -> 0, which the edge and the flank carry, and the slope, the chip's share on the rake
@@ -552,6 +585,13 @@ def write_report(args, runs, db, title):
                          f"largest {100 * v['max']:.1f} %, {v['within_scatter']} within the measured scatter")
         else:
             lines.append(f"- {name}: no condition with both a measurement and a simulation")
+    floor = measurement_consistency(rows)
+    if all(floor[q][0] for q in floor):
+        lines.append("- the measurements about a smooth trend of their own: a straight line in h per speed, fitted "
+                     "robustly (Theil-Sen) to the measured values, misses them by "
+                     + ", ".join(f"{100 * floor[q][1]:.1f} % ({name}, {floor[q][0]} conditions)" for q, name in
+                                 (("Fc", "Fc"), ("Ft", "Ft"), ("hchip", "chip thickness")))
+                     + " on average: about the closest a prediction smooth in h can come")
     done = [r for r in rows if r["status"] == "done"]
     stale = [r for r in done if r["input"] != input_hash()]
     if stale:
