@@ -273,7 +273,9 @@ def feature_forces(path, from_mm):
     if not os.path.exists(path):
         return {}
     sums, n = [0.0] * 6, 0
-    for line in open(path):
+    with open(path) as f:
+        lines = f.readlines()
+    for line in lines:
         if line.startswith("#") or not line.strip():
             continue
         v = [float(x) for x in line.split()]
@@ -306,7 +308,8 @@ def analyse(rundir, inputs, wall):
         vals = [r[col] for r in sel]
         res[name] = sum(vals) / len(vals)
         res["se_" + name] = block_error(vals)
-    log = open(os.path.join(rundir, "log.cutting")).read()
+    with open(os.path.join(rundir, "log.cutting")) as f:
+        log = f.read()
     m = re.findall(r"Loop time of ([0-9.eE+-]+) on \d+ procs for (\d+) steps with (\d+) atoms", log)
     if m:
         res["loop_s"] = sum(float(x[0]) for x in m)
@@ -386,8 +389,10 @@ def run_campaign(args, runs, db):
             return None                                  # killed at the deadline: not stored, rerun later
         try:
             if p.returncode != 0:
-                tail = open(os.path.join(rundir, "log.cutting")).read().strip().splitlines()[-3:] \
-                    if os.path.exists(os.path.join(rundir, "log.cutting")) else []
+                tail = []
+                if os.path.exists(os.path.join(rundir, "log.cutting")):
+                    with open(os.path.join(rundir, "log.cutting")) as f:
+                        tail = f.read().strip().splitlines()[-3:]
                 raise RuntimeError(f"exit {p.returncode}: " + " | ".join(tail + err.decode()[-300:].splitlines()[-2:]))
             res = analyse(rundir, r["inputs"], wall)
             db.put(r["key"], r["inputs"], res, "done", wall)

@@ -13,7 +13,9 @@ def read_rows(path="forces.dat"):
     """rows [time, cut_mm, Fc, Ft, Tmax, Trake] in step order; a run continued from a restart
     repeats the step it started from: the last line of each step is kept"""
     by_step = {}
-    for line in open(path):
+    with open(path) as f:
+        lines = f.readlines()
+    for line in lines:
         if line.startswith("#") or not line.strip():
             continue
         v = line.split()
