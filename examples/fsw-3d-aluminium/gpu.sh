@@ -8,7 +8,8 @@
 # of wall time for the run loop (default 300: timer timeout, checked every 100 steps), STEPS (> 0:
 # stop there as well), KK the accelerator switches (default one GPU; "-k on t 2 -sf kk -pk kokkos
 # neigh full newton off" runs the same styles on 2 host threads, for a check), ARGS more -var
-# settings.  Writes fsw.dat, log.fsw, dump.fsw every DUMP steps (default 0: none; a frame of 540,000
+# settings, CONTINUE=1 continues the weld from the restart.fsw that a run stopped by WALL or STEPS
+# left in the folder (fsw.dat appended; a weld longer than one machine session in several calls).  Writes fsw.dat, log.fsw, dump.fsw every DUMP steps (default 0: none; a frame of 540,000
 # particles is about 30 MB), the last frame to dump.final (id type x y z temperature plastic_strain vonmises, 5 digits) and then, where matplotlib is,
 # fsw.png and picture.png (temperature on the top surface and in the section across the joint) from
 # it, and gzips it to dump.final.gz; prints the particle count, the steps, the loop's wall time and
@@ -22,7 +23,7 @@ KK="${KK:--k on g 1 -sf kk -pk kokkos neigh full newton off}"
 t0=$(date +%s.%N)
 # shellcheck disable=SC2086
 $LMP $KK -in "$here/in.fsw" -var exdir "$here" -var dx "$DX" -var walltime "$WALL" -var steps "$STEPS" \
-  -var dumpevery "$DUMP" -var start "$START" -var finaldump 1 $ARGS -log log.fsw \
+  -var dumpevery "$DUMP" -var start "$START" -var finaldump 1 -var continue "${CONTINUE:-0}" $ARGS -log log.fsw \
   | awk '/^fsw:|^tool.py/{print} /^ *Step/{h=1} h && /^ +[0-9]+ /{print} /Loop time|WARNING|ERROR|[Tt]imeout/{print}'
 t1=$(date +%s.%N)
 # the run's loop: the first "Loop time" line (the second is the final frame's run 0)
