@@ -12,6 +12,10 @@
 #         (default 300): each run's timeout is the budget left (at most TAYLOR_TIMEOUT, 240 s), a run
 #         that would start with less than 20 s left is skipped and said so.
 #   t0    the t = 0 readings (run 0) at TAYLOR_T0_DX (default 0.8e-3 0.4e-3 0.2e-3 0.1e-3), rings and sc
+#   wall  bar A alone against a rigid frictionless plate (fix contact/tri-penalty, mu 0, contact radius
+#         dx/2: the first layer's distance) in place of the mirrored bar B, at each of TAYLOR_DX with the
+#         settings of TAYLOR_BEST (bar B's far layer stays, 32 mm from the plate: the pair's hdx needs
+#         atoms of each type to derive the spacing); the interface at the rim, mirror against wall
 # TAYLOR_BEST: -var settings of the best case (issue 51 item 7; examples/taylor-bar/README.md, "What
 # limits the accuracy"); TAYLOR_ARGS: more lmp arguments for every run.
 # Results: $OUT/summary.txt, $OUT/taylor.csv, $OUT/taylor-logs.tar.gz.  Figures: examples/taylor-bar/README.md.
@@ -104,6 +108,30 @@ for s in dict.fromkeys(r["settings"] for r in rows):
         line += f" (reference {lo}-{hi})"
         print(line)
 EOF
+}
+
+wall() {
+  T_START=$(date +%s)
+  [ -f "$CSV" ] || echo "settings,dx,particles,steps,loop_s,length_mm,radius_mm,rim_radius_mm,eps_max,energy_error,status" > "$CSV"
+  # the plate: x, y in +-20 mm, z from -5 mm to 0, outward normals
+  python3 - "$W/plate.stl" "$ROOT/tools" <<'EOP'
+import sys
+sys.path.insert(0, sys.argv[2])
+from stl_ascii import facet
+L, zb = 20e-3, -5e-3
+v = [(x, y, z) for z in (zb, 0.0) for y in (-L, L) for x in (-L, L)]
+with open(sys.argv[1], "w") as out:
+    out.write("solid plate\n")
+    for a, b, c in ((0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4), (2, 6, 3), (3, 6, 7),
+                    (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)):
+        facet(out, v[a], v[b], v[c])
+    out.write("endsolid plate\n")
+EOP
+  sed -e "s|^fix          sph all sph/jc-thermal cfl \${cfl}|variable     farB atom \"z > -v_L + v_dz\"\ngroup        Bz variable farB\ngroup        Bdel intersect Bz B\ndelete_atoms group Bdel\n&\nfix          wall all contact/tri-penalty stl $W/plate.stl mu 0 sfac \${hdx}|" \
+    "$EX" > "$W/in.wall"
+  grep -q "contact/tri-penalty" "$W/in.wall" || { say "wall: the input's fix sph line was not found"; return 1; }
+  local EX="$W/in.wall" dx
+  for dx in ${TAYLOR_DX:-0.4e-3 0.2e-3 0.141e-3 0.1e-3}; do one wall "$dx" $BEST; done
 }
 
 t0() {
