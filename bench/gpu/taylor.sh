@@ -29,6 +29,7 @@ EX="$ROOT/examples/taylor-bar/in.taylor"
 W=/tmp/taylor-conv; mkdir -p $W
 BEST="${TAYLOR_BEST:--var alpha 0.5 -var beta 0.5}"
 CSV="$OUT/taylor.csv"
+CSV_HEADER="settings,dx,particles,steps,loop_s,length_mm,radius_mm,rim_radius_mm,eps_max,energy_error,status"
 T_START=$(date +%s)    # (set again at the start of conv: the build does not count)
 
 # one run: label, dx, more lmp arguments; a line of the summary and of taylor.csv
@@ -65,7 +66,7 @@ one() {
 
 conv() {
   T_START=$(date +%s)
-  echo "settings,dx,particles,steps,loop_s,length_mm,radius_mm,rim_radius_mm,eps_max,energy_error,status" > "$CSV"
+  echo "$CSV_HEADER" > "$CSV"
   say "best settings: $BEST ${TAYLOR_ARGS:-}"
   local dx
   for dx in ${TAYLOR_DX:-0.4e-3 0.2e-3 0.141e-3 0.1e-3}; do one best "$dx" $BEST; done
@@ -112,7 +113,7 @@ EOF
 
 wall() {
   T_START=$(date +%s)
-  [ -f "$CSV" ] || echo "settings,dx,particles,steps,loop_s,length_mm,radius_mm,rim_radius_mm,eps_max,energy_error,status" > "$CSV"
+  [ -f "$CSV" ] || echo "$CSV_HEADER" > "$CSV"
   # the plate: x, y in +-20 mm, z from -5 mm to 0, outward normals
   python3 - "$W/plate.stl" "$ROOT/tools" <<'EOP'
 import sys

@@ -34,6 +34,7 @@ import re
 import shlex
 import signal
 import sqlite3
+import statistics
 import subprocess
 import sys
 import threading
@@ -274,18 +275,17 @@ def feature_forces(path, from_mm):
         return {}
     sums, n = [0.0] * 6, 0
     with open(path) as f:
-        lines = f.readlines()
-    for line in lines:
-        if line.startswith("#") or not line.strip():
-            continue
-        v = [float(x) for x in line.split()]
-        if len(v) < 26 or v[1] < from_mm:
-            continue
-        for i in range(3):
-            b = 2 + 8 * i
-            sums[2 * i] += (v[b] + v[b + 2]) / 1000.0
-            sums[2 * i + 1] += (v[b + 1] + v[b + 3]) / 1000.0
-        n += 1
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            v = [float(x) for x in line.split()]
+            if len(v) < 26 or v[1] < from_mm:
+                continue
+            for i in range(3):
+                b = 2 + 8 * i
+                sums[2 * i] += (v[b] + v[b + 2]) / 1000.0
+                sums[2 * i + 1] += (v[b + 1] + v[b + 3]) / 1000.0
+            n += 1
     if not n:
         return {}
     out = {}
@@ -389,9 +389,9 @@ def run_campaign(args, runs, db):
             return None                                  # killed at the deadline: not stored, rerun later
         try:
             if p.returncode != 0:
-                tail = []
-                if os.path.exists(os.path.join(rundir, "log.cutting")):
-                    with open(os.path.join(rundir, "log.cutting")) as f:
+                tail, log = [], os.path.join(rundir, "log.cutting")
+                if os.path.exists(log):
+                    with open(log) as f:
                         tail = f.read().strip().splitlines()[-3:]
                 raise RuntimeError(f"exit {p.returncode}: " + " | ".join(tail + err.decode()[-300:].splitlines()[-2:]))
             res = analyse(rundir, r["inputs"], wall)
@@ -501,19 +501,13 @@ def linear_fit(xs, ys):
     return my - b * mx, b
 
 
-def median(xs):
-    v = sorted(xs)
-    n = len(v)
-    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
-
-
 def theil_sen(xs, ys):
     """the robust straight line y = a + b x: b the median of the pairwise slopes, a the median of
     y - b x (one outlier does not move it)"""
     slopes = [(ys[j] - ys[i]) / (xs[j] - xs[i]) for i in range(len(xs)) for j in range(i + 1, len(xs))
               if xs[j] != xs[i]]
-    b = median(slopes)
-    return median([y - b * x for x, y in zip(xs, ys)]), b
+    b = statistics.median(slopes)
+    return statistics.median([y - b * x for x, y in zip(xs, ys)]), b
 
 
 def measurement_consistency(rows):

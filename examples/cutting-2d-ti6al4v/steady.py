@@ -14,12 +14,11 @@ def read_rows(path="forces.dat"):
     repeats the step it started from: the last line of each step is kept"""
     by_step = {}
     with open(path) as f:
-        lines = f.readlines()
-    for line in lines:
-        if line.startswith("#") or not line.strip():
-            continue
-        v = line.split()
-        by_step[int(v[0])] = [float(x) for x in v[1:]]
+        for line in f:
+            if line.startswith("#") or not line.strip():
+                continue
+            v = line.split()
+            by_step[int(v[0])] = [float(x) for x in v[1:]]
     return [by_step[k] for k in sorted(by_step)]
 
 
