@@ -514,7 +514,7 @@ template <class DeviceType> template <int DIM> void FixHeatFMFSKokkos<DeviceType
         const int s = sphcut::conduction_particle<DIM>(nbr, kern, nbr.xi, Ti, mi.kappa, fmfs && !is_surf && mi.kappa > 0.0,
                                                        flam, rate);
         sphcut::heat_count(s, c_fmfs, c_brook, c_fall);
-        d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
+        d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, d.av.mask(i), rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       }, fin),
       wide,
@@ -649,7 +649,7 @@ void FixHeatFMFSKokkos<DeviceType>::exchange_pass_kk(const HeatFMFSViews<DeviceT
         const double rate = sphcut::heat_exchange<DIM>(DeviceNeighbours<DeviceType, DIM, EAGER>(d, i), mi.kappa, Ti, 0.0, &fw(i, FW0),
                                                        sphcut::NoAdd{});
         const int is_surf = has_surf ? surf(i, ComputeSurfaceLambda::FLAG) > 0.5 : 0;
-        d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, rate, d.av.st(i, F::RHO_F),
+        d.av.st(i, F::HELD) = sphcut::heat_rate(DIM, hl, is_surf, d.av.mask(i), rate, d.av.st(i, F::RHO_F),
                                                 use_rmass ? d.av.rmass(i) : d.av.mass(itype), mi.cp, Ti, p_conv, p_rad);
       }, fin),
       wide,

@@ -52,12 +52,12 @@ static constexpr double THERMAL_CFL_MAX = 0.15;
 
 /* ----------------------------------------------------------------------
    fix ID group heat/fmfs [scheme fmfs|brookshaw] [surface CID]
-       [convection h_c T_inf] [radiation emissivity T_inf] [dirichlet GROUP T] ...
+       [convection h_c T_inf] [radiation emissivity T_inf] [backing GROUP h_b T_b] [dirichlet GROUP T] ...
 ------------------------------------------------------------------------- */
 
 FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), scheme(FMFS), every(1), conservative(1), fwts(nullptr), nmax_fwts(0), held_conv(0.0), held_rad(0.0), fmfs_lambda(0.75), id_surface(nullptr), surface(nullptr), hconv(0.0), tconv(0.0),
-    emiss(0.0), trad(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
+    emiss(0.0), trad(0.0), backbit(0), hback(0.0), tback(0.0), q_conv(0.0), q_rad(0.0), q_dirichlet(0.0), q_sources(0.0), n_fmfs(0),
     n_brookshaw(0), n_fallback(0), p_conv_prev(0.0), p_rad_prev(0.0), list(nullptr), fix(nullptr), model(nullptr),
     fuse_surface(false)
 {
@@ -110,6 +110,16 @@ FixHeatFMFS::FixHeatFMFS(LAMMPS *lmp, int narg, char **arg) :
       if (emiss < 0.0 || emiss > 1.0) error->all(FLERR, "Fix heat/fmfs: emissivity must be in [0,1], got {}", emiss);
       if (trad < 0.0) error->all(FLERR, "Fix heat/fmfs: radiation T_inf must be >= 0, got {}", trad);
       iarg += 3;
+    } else if (kw == "backing") {
+      need(3);
+      const int ig = group->find(arg[iarg + 1]);
+      if (ig < 0) error->all(FLERR, "Fix heat/fmfs: backing group {} does not exist", arg[iarg + 1]);
+      backbit = group->bitmask[ig];
+      hback = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      tback = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
+      if (hback < 0.0) error->all(FLERR, "Fix heat/fmfs: backing coefficient must be >= 0, got {}", hback);
+      if (tback < 0.0) error->all(FLERR, "Fix heat/fmfs: backing temperature must be >= 0, got {}", tback);
+      iarg += 4;
     } else if (kw == "dirichlet") {
       need(2);
       const int ig = group->find(arg[iarg + 1]);
@@ -333,7 +343,7 @@ struct ListedNeighbours {
 
 sphcut::HeatLosses FixHeatFMFS::losses() const
 {
-  return {hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, hconv > 0.0 || emiss > 0.0};
+  return {hconv, tconv, emiss * STEFAN_BOLTZMANN_SI, trad, hconv > 0.0 || emiss > 0.0, hback > 0.0 ? backbit : 0, hback, tback};
 }
 
 // per particle (conservative no): the physics is sphcut::conduction_particle and heat_rate
@@ -367,7 +377,7 @@ template <int DIM> void FixHeatFMFS::conduction()
     const int s = sphcut::conduction_particle<DIM>(nb, kernel, atom->x[i], Ti, mi.kappa,
                                                    scheme == FMFS && !surf && mi.kappa > 0.0, fmfs_lambda, rate);
     sphcut::heat_count(s, n_fmfs, n_brookshaw, n_fallback);
-    st[i][F::HELD] = sphcut::heat_rate(DIM, hl, surf, rate, st[i][F::RHO_F], rmass ? rmass[i] : mass[itype], mi.cp,
+    st[i][F::HELD] = sphcut::heat_rate(DIM, hl, surf, mask[i], rate, st[i][F::RHO_F], rmass ? rmass[i] : mass[itype], mi.cp,
                                        Ti, p_conv, p_rad);
   }
   held_conv = p_conv;
@@ -574,7 +584,7 @@ template <int DIM> void FixHeatFMFS::exchange_pass()
     const Material &mi = mat[type[i]];
     if (mi.cp <= 0.0) continue;
     const int surf = surface ? surface->is_surface(i) : 0;
-    st[i][F::HELD] = sphcut::heat_rate(DIM, hl, surf, rate[i], st[i][F::RHO_F], rmass ? rmass[i] : mass[type[i]], mi.cp,
+    st[i][F::HELD] = sphcut::heat_rate(DIM, hl, surf, mask[i], rate[i], st[i][F::RHO_F], rmass ? rmass[i] : mass[type[i]], mi.cp,
                                        pk[5 * i + 4], p_conv, p_rad);
   }
   held_conv = p_conv;

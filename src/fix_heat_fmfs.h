@@ -70,6 +70,8 @@ class FixHeatFMFS : public Fix, public sphcut::AttachedStyle {
   ComputeSurfaceLambda *surface;
   double hconv, tconv;          // convection coefficient and ambient temperature
   double emiss, trad;           // emissivity and ambient temperature of radiation
+  int backbit;                  // the backing's group (keyword backing; 0: none)
+  double hback, tback;          // its heat transfer coefficient and temperature
   std::vector<int> dir_bits;        // the Dirichlet groups (keyword dirichlet) and their temperatures,
   std::vector<double> dir_temps;    // as the heat rules take them (sphcut::dirichlet_index)
   // energy budget (energy units, summed over this rank; reduced on output)

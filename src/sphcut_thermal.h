@@ -840,11 +840,14 @@ struct NoAdd {
   SPHCUT_INLINE void operator()(int, double) const {}
 };
 
-// the surface losses of fix heat/fmfs (keywords convection, radiation)
+// the surface losses of fix heat/fmfs (keywords convection, radiation) and the loss of a group
+// to a body in contact (keyword backing)
 struct HeatLosses {
   double hconv, tconv;        // convection coefficient and ambient temperature
   double emiss_sigma, trad;   // emissivity times Stefan-Boltzmann, ambient temperature
   int on;                     // hconv > 0 or emissivity > 0
+  int bbit;                   // group bit of the backing's particles (0: none)
+  double hback, tback;        // heat transfer coefficient to the backing and its temperature
 };
 
 /* a heat source of the given power (energy/time, e.g. friction heat) into a particle's
@@ -859,8 +862,9 @@ SPHCUT_INLINE bool add_source_heat(double &dtemp, double power, double m, double
 
 // the held temperature rate of a particle: rho cp dT/dt = rate over rho cp, less, on a free
 // surface (surf) with losses, the heat it loses by convection and radiation (surface_losses of
-// its volume m/rho), which are added to p_conv and p_rad
-SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double rate, double rho, double mass,
+// its volume m/rho), which are added to p_conv and p_rad; a particle of the backing's group (its
+// mask holds hl.bbit) also loses hback (T - tback) A to the backing, added to p_conv
+SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, int mask, double rate, double rho, double mass,
                                double cp, double T, double &p_conv, double &p_rad)
 {
   double dT = rate / (rho * cp);
@@ -870,6 +874,12 @@ SPHCUT_INLINE double heat_rate(int dim, const HeatLosses &hl, int surf, double r
     p_conv += qc;
     p_rad += qr;
     dT -= (qc + qr) / (mass * cp);
+  }
+  if (mask & hl.bbit) {
+    double qb, unused;
+    surface_losses(dim, mass / rho, T, hl.hback, hl.tback, 0.0, 0.0, qb, unused);
+    p_conv += qb;
+    dT -= qb / (mass * cp);
   }
   return dT;
 }

@@ -547,6 +547,46 @@ TEST(Convection, LumpedStripFmfsBufferEnergyBalance)
   EXPECT_LT(eb, 1e-10);
 }
 
+// keyword backing: the strip's bottom row (group bottom, SNX particles of area dx) loses
+// h_b (T - T_b) dx each to a body in contact, and nothing else leaves (no surface losses):
+// -dE/dt = h_b Lx (T - T_b) with the mean T (Bi = h_b L / k = 0.008: the bottom row is cooler
+// than the mean by about Bi/2 of T - T_b), and the heat lost, booked in element 1, equals the
+// energy drop to round-off.  The same under fix heat/fmfs/kk on host threads, to round-off of the CPU's.
+namespace {
+constexpr double HB = 100.0, TB = 300.0;
+double back_rate(double T) { return HB * SNX * SDX * (T - TB); }
+double backing_strip(const std::vector<std::string> &sw, double &er, double &eb)
+{
+  Lammps l(MPI_COMM_WORLD, sw);
+  box2d(l, "p f p", SDX, 0.0, SNX * SDX, -4 * SDX, (SNY + 3) * SDX);
+  atoms2d(l, 1, SDX, 0.0, (SNX - 1) * SDX, 0.0, (SNY - 1) * SDX);
+  l.cmds({sfmt("region bot block INF INF INF %.17g INF INF units box", 0.5 * SDX), "group bottom region bot",
+          sfmt("mass 1 %.17g", SRHO * SDX * SDX), "pair_style sph/jc-thermal", material(1, SRHO, 50.0, SCP),
+          "fix sph all sph/jc-thermal tool all temp 500",
+          sfmt("fix heat all heat/fmfs scheme brookshaw backing bottom %g %g", HB, TB),
+          sfmt("timestep %.17g", 0.1 * SRHO * SCP * (1.5 * SDX) * (1.5 * SDX) / 50.0), "run 0"});
+  EXPECT_EQ(l.equal("count(bottom)"), SNX);
+  lumped_check(l, "backing brookshaw", 1, 3, 150, back_rate, er, eb);
+  return mean_temp(l);
+}
+}    // namespace
+
+TEST(Backing, LumpedStripBottomRow)
+{
+  double er, eb;
+  const double T = backing_strip(sphcut_test::default_switches(), er, eb);
+  EXPECT_LT(er, 0.0065);    // measured -0.21 %
+  EXPECT_LT(eb, 1e-10);
+  EXPECT_LT(T, 500.0);
+#ifdef SPHCUT_TEST_HAVE_KOKKOS
+  double erk, ebk;
+  const double Tk = backing_strip({"-k", "on", "t", "2", "-sf", "kk"}, erk, ebk);
+  printf("[ backing ] mean T after 450 steps: CPU %.15g, /kk %.15g\n", T, Tk);
+  EXPECT_NEAR(Tk, T, 1e-12 * T);
+  EXPECT_LT(ebk, 1e-10);
+#endif
+}
+
 // the energy balance at the FMFS/Brookshaw seam (issue 11 item 3).  The default conservative
 // form exchanges heat pairwise (mean of the two particles' weights): the energy drop equals the
 // heat lost to round-off (measured 2e-14), and the loss rate follows h A (T - T_inf) (-0.52 %).
@@ -1281,6 +1321,10 @@ TEST(BadInput, HeatFix)
   EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs dirichlet nogroup 300",
                                "dirichlet group nogroup does not exist"));
   EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs dirichlet all", "keyword dirichlet needs 2 value(s)"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs backing nogroup 100 300", "backing group nogroup does not exist"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs backing all 100", "keyword backing needs 3 value(s)"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs backing all -2 300", "backing coefficient must be >= 0, got -2"));
+  EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs backing all 2 -300", "backing temperature must be >= 0, got -300"));
   EXPECT_TRUE(l.error_contains("fix heat all heat/fmfs dirichlet all -1", "dirichlet temperature must be >= 0"));
   l.cmd("fix heat all heat/fmfs surface nosuch");
   EXPECT_TRUE(l.error_contains("run 0", "surface compute nosuch does not exist"));

@@ -82,7 +82,7 @@ __global__ void k(const Material *mat, double *s, double *acc, TriBinView g, dou
   heat_count(sch, c[0], c[1], c[2]);
   out[6] = rate + hs.lambda + c[0] + heat_exchange<3>(hv, 1.0, 300.0, 0.0, s + 23, NoAdd{}) +
            heat_exchange<2>(hv, 1.0, 300.0, 1.0, s + 23, sink) +
-           heat_rate(3, HeatLosses{1.0, 300.0, 1.0, 300.0, 1}, 1, 1.0, 1.0, 1.0, 1.0, 300.0, pc, pr) +
+           heat_rate(3, HeatLosses{1.0, 300.0, 1.0, 300.0, 1, 1, 2.0, 300.0}, 1, 1, 1.0, 1.0, 1.0, 1.0, 300.0, pc, pr) +
            support_radius_sq(s[17]);
   int region;
   int e = tool_surface(g, x, 1e-4, d, n, q, region);
