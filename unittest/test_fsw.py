@@ -15,8 +15,10 @@ here), none in the contact radius, the plunge the shoulder's gap + depth only, t
 in contact; a start other than plunge or inserted refused with the value named.
 The inserted start again with -var split 0.95 -var backing insulated: the bottom layer's particles
 leave the group held at 300 K (the edges across the joint stay), and the lumped tool warms by
-(1 - 0.95) / (1 - the effusivity split) of the first run's rise, within 1.5 % (measured 0.4 %); a
-backing other than sink or insulated refused with the value named.
+(1 - 0.95) / (1 - the effusivity split) of the first run's rise, within 1.5 % (measured 0.4 %).
+-var backing film (one step): the same group held at 300 K, and the heat fix gets the bottom layer's
+loss to the backing plate (backing bottom 2000 300); a backing other than sink, insulated or film
+refused with the value named.
 A weld split in two (-var steps 200, which writes restart.fsw, then -var continue 1 -var steps 100;
 restart files every 100 steps in both, the same neighbour-list schedule) continues as the unsplit
 300-step weld: every row of fsw.dat (time, turned angle, forces, torque, power, temperatures) within
@@ -127,6 +129,18 @@ want = (1 - 0.95) / (1 - ew / (ew + et))
 got = (hot[-1][12] - 300) / (rows[-1][12] - 300)
 check(abs(got / want - 1) < TOL_SPLIT, f"split 0.95: the lumped tool warms {got:.4f} times as much as with the "
       f"effusivity split, (1 - 0.95) / (1 - {ew / (ew + et):.4f}) = {want:.4f}")
+os.chdir("..")
+os.makedirs("film", exist_ok=True)
+os.chdir("film")
+film = [a for a in ins if a != "250"]
+film[film.index("steps") + 1:film.index("steps") + 1] = ["1"]
+out_film = run(film + ["-var", "backing", "film"])
+log_film = open("log.fsw").read()
+gf = {g: int(n) for n, g in re.findall(r"(\d+) atoms in group (clamp|cold|bottom)", out_film)}
+check(gf.get("cold") == gh.get("cold") and gf.get("bottom", 0) >= nbot
+      and "dirichlet cold 300 backing bottom 2000 300" in log_film,
+      f"backing film: {gf.get('cold')} held at 300 K as insulated, the {gf.get('bottom')} of the bottom layer lose "
+      f"hback (T - 300) to the backing plate")
 # ---- a weld continued from its restart file (-var continue 1) is the unsplit one
 os.chdir("..")
 split = [a for a in ins if a != "250"]
