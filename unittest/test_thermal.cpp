@@ -449,10 +449,12 @@ namespace {
 constexpr int SNX = 20, SNY = 4;
 constexpr double SDX = 1e-3, SRHO = 1000.0, SCP = 1.0;
 
-void strip(Lammps &l, double k, const std::string &scheme, const std::string &loss)
+void strip(Lammps &l, double k, const std::string &scheme, const std::string &loss,
+           const std::vector<std::string> &groups = {})
 {
   box2d(l, "p f p", SDX, 0.0, SNX * SDX, -4 * SDX, (SNY + 3) * SDX);
   atoms2d(l, 1, SDX, 0.0, (SNX - 1) * SDX, 0.0, (SNY - 1) * SDX);
+  l.cmds(groups);    // (groups the loss keywords name)
   l.cmds({sfmt("mass 1 %.17g", SRHO * SDX * SDX), "pair_style sph/jc-thermal", material(1, SRHO, k, SCP),
           "fix sph all sph/jc-thermal tool all temp 500", "compute surf all surface/lambda",
           "fix heat all heat/fmfs scheme " + scheme + " surface surf " + loss,
@@ -558,13 +560,8 @@ double back_rate(double T) { return HB * SNX * SDX * (T - TB); }
 double backing_strip(const std::vector<std::string> &sw, double &er, double &eb)
 {
   Lammps l(MPI_COMM_WORLD, sw);
-  box2d(l, "p f p", SDX, 0.0, SNX * SDX, -4 * SDX, (SNY + 3) * SDX);
-  atoms2d(l, 1, SDX, 0.0, (SNX - 1) * SDX, 0.0, (SNY - 1) * SDX);
-  l.cmds({sfmt("region bot block INF INF INF %.17g INF INF units box", 0.5 * SDX), "group bottom region bot",
-          sfmt("mass 1 %.17g", SRHO * SDX * SDX), "pair_style sph/jc-thermal", material(1, SRHO, 50.0, SCP),
-          "fix sph all sph/jc-thermal tool all temp 500",
-          sfmt("fix heat all heat/fmfs scheme brookshaw backing bottom %g %g", HB, TB),
-          sfmt("timestep %.17g", 0.1 * SRHO * SCP * (1.5 * SDX) * (1.5 * SDX) / 50.0), "run 0"});
+  strip(l, 50.0, "brookshaw", sfmt("backing bottom %g %g", HB, TB),
+        {sfmt("region bot block INF INF INF %.17g INF INF units box", 0.5 * SDX), "group bottom region bot"});
   EXPECT_EQ(l.equal("count(bottom)"), SNX);
   lumped_check(l, "backing brookshaw", 1, 3, 150, back_rate, er, eb);
   return mean_temp(l);
